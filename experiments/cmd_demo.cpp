@@ -1,0 +1,13 @@
+// Placeholder until its issue lands: registers the subcommand and says so, never fakes output.
+#include "experiments/commands.h"
+#include "solvers/error.h"
+
+namespace bivo::experiments {
+
+void add_demo_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("demo", "(not built yet)");
+  cmd->allow_extras();
+  cmd->callback([] { throw Error("'bivo demo' is not implemented in this build yet"); });
+}
+
+}  // namespace bivo::experiments

@@ -1,0 +1,93 @@
+#include "odometry/trajectory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "odometry/atomic_file.h"
+#include "solvers/error.h"
+
+namespace bivo::odometry {
+
+Trajectory read_tum_trajectory(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open trajectory '" + path + "'");
+  Trajectory out;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream s(line);
+    double v[8];
+    for (double& x : v) {
+      if (!(s >> x)) {
+        throw Error(path + ":" + std::to_string(line_no) +
+                    ": expected 'timestamp tx ty tz qx qy qz qw', got '" + line + "'");
+      }
+      if (!std::isfinite(x)) {
+        throw Error(path + ":" + std::to_string(line_no) + ": non-finite value in '" + line + "'");
+      }
+    }
+    std::string extra;
+    if (s >> extra) {
+      throw Error(path + ":" + std::to_string(line_no) + ": unexpected extra field '" + extra + "'");
+    }
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    if (q.norm() < 1e-6) {
+      throw Error(path + ":" + std::to_string(line_no) + ": quaternion has zero norm");
+    }
+    q.normalize();
+    if (!out.empty() && v[0] < out.back().timestamp) {
+      throw Error(path + ":" + std::to_string(line_no) + ": timestamp " + std::to_string(v[0]) +
+                  " is earlier than the previous one (list must be sorted)");
+    }
+    StampedPose p;
+    p.timestamp = v[0];
+    p.T_wc.linear() = q.toRotationMatrix();
+    p.T_wc.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+    out.push_back(p);
+  }
+  if (out.empty()) throw Error("trajectory '" + path + "' has no poses");
+  return out;
+}
+
+void write_tum_trajectory(const std::string& path, const Trajectory& trajectory) {
+  write_file_atomically(path, [&](std::ostream& o) {
+    o << "# timestamp tx ty tz qx qy qz qw (camera-to-world)\n";
+    for (const auto& p : trajectory) {
+      const Eigen::Vector3d t = p.T_wc.translation();
+      Eigen::Quaterniond q(p.T_wc.linear());
+      q.normalize();
+      if (!t.allFinite() || !q.coeffs().allFinite()) {
+        throw Error("refusing to write a non-finite pose at t=" + std::to_string(p.timestamp) +
+                    " to '" + path + "'");
+      }
+      o << std::fixed << std::setprecision(6) << p.timestamp << std::setprecision(9) << ' '
+        << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
+        << ' ' << q.w() << '\n';
+    }
+  });
+}
+
+const StampedPose* nearest_pose(const Trajectory& trajectory, double t, double max_dt) {
+  auto it = std::lower_bound(trajectory.begin(), trajectory.end(), t,
+                             [](const StampedPose& p, double v) { return p.timestamp < v; });
+  const StampedPose* best = nullptr;
+  double best_dt = max_dt;
+  if (it != trajectory.end() && std::abs(it->timestamp - t) <= best_dt) {
+    best = &*it;
+    best_dt = std::abs(it->timestamp - t);
+  }
+  if (it != trajectory.begin()) {
+    const auto prev = std::prev(it);
+    if (std::abs(prev->timestamp - t) <= best_dt) best = &*prev;
+  }
+  return best;
+}
+
+}  // namespace bivo::odometry

@@ -1,0 +1,3 @@
+namespace bivo::problems {
+const char* version() { return "0.1"; }
+}  // namespace bivo::problems
