@@ -1,0 +1,80 @@
+#pragma once
+// What one solve is told (SolverOptions) and what it reports (Summary), shared by the outer
+// loop (step backends) and the whole-problem backends (Ceres, Ipopt-NLP).
+#include <string>
+#include <vector>
+
+#include "solvers/profiling.h"
+#include "solvers/step_backend.h"
+
+namespace bivo::solvers {
+
+struct SolverOptions {
+  int max_iterations = 50;
+  // Stop when the tangent step's Euclidean norm falls below this.
+  double step_tolerance = 1e-10;
+  // Stop when |merit_before - merit_after| <= tol * |merit_before|. The merit is
+  // F_1 + lambda F_2 (weighted sum) or the Lagrangian F_1 + mu F_2 (epsilon-constraint,
+  // mu of that step; F_2 alone while the step is infeasible).
+  double relative_decrease_tolerance = 1e-12;
+  int verbosity = 0;  // 0 silent, 1 one line per iteration on stderr
+  // Phase times ("subproblem", "other", plus what the problem records in linearize:
+  // "residuals", "weights", "normal_equations") are ALSO added here when not null; the
+  // Summary always carries its own copy.
+  PhaseProfile* profile = nullptr;
+  // Ask the problem for full residual data even if the backend does not need it.
+  bool want_full_residuals = false;
+};
+
+enum class TerminationReason {
+  kStepTolerance,      // ||delta|| < step_tolerance
+  kRelativeDecrease,   // merit changed by less than relative_decrease_tolerance
+  kMaxIterations,      // budget exhausted
+  kNoProgress,         // damped backend rejected too many steps in a row
+  kNumericalFailure,   // NaN/Inf step or objective; x left at the last good value
+  kBackendFailure,     // whole-problem backend (Ceres, Ipopt) reported failure
+};
+const char* to_string(TerminationReason reason);
+
+struct IterationRecord {
+  int iteration = 0;         // 1-based
+  double f1 = 0.0, f2 = 0.0;  // objectives AFTER this iteration (at the accepted x)
+  double multiplier = 0.0;   // lambda (weighted sum) or mu (epsilon-constraint)
+  double epsilon = 0.0;      // epsilon of this step (epsilon-constraint only)
+  double step_norm = 0.0;
+  bool accepted = true;      // false: damped backend rejected the step, x unchanged
+  bool feasible = true;      // the step backend's feasibility flag
+  int inner_iterations = 0;  // the backend's own iterations for this step
+  double seconds = 0.0;      // wall time of the whole iteration
+};
+
+struct Summary {
+  std::string problem;
+  std::string backend;
+  ScalarizationKind kind = ScalarizationKind::kWeightedSum;
+  std::string scalarization;  // Scalarization::describe()
+
+  int iterations = 0;  // outer iterations run (accepted or not)
+  double initial_f1 = 0.0, initial_f2 = 0.0;
+  double final_f1 = 0.0, final_f2 = 0.0;
+  double multiplier = 0.0;  // last lambda or mu (+inf when the last step was infeasible)
+  double epsilon = 0.0;     // last epsilon (epsilon-constraint)
+  bool feasible = true;     // last step feasible and, for epsilon, F_2 <= epsilon (1e-9 rel.)
+
+  TerminationReason termination = TerminationReason::kMaxIterations;
+  std::string message;      // human-readable termination detail
+
+  PhaseProfile phases;      // time per phase of this solve
+  double total_seconds = 0.0;
+  std::vector<IterationRecord> records;
+
+  // Converged: stopped on a tolerance (not budget, not failure).
+  bool converged() const {
+    return termination == TerminationReason::kStepTolerance ||
+           termination == TerminationReason::kRelativeDecrease;
+  }
+  std::string BriefReport() const;  // one line
+  std::string FullReport() const;   // multi-line, per-iteration table and phase times
+};
+
+}  // namespace bivo::solvers
