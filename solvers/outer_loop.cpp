@@ -1,0 +1,218 @@
+// linearize -> scalarize -> step -> retract, until a tolerance or the budget stops it.
+#include "solvers/outer_loop.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "solvers/backend_registry.h"
+#include "solvers/error.h"
+
+namespace bivo::solvers {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+bool finite2(const std::array<double, 2>& f) { return std::isfinite(f[0]) && std::isfinite(f[1]); }
+
+bool finite_models(const Linearization& lin) {
+  return std::isfinite(lin.f1.a) && std::isfinite(lin.f2.a) && lin.f1.b.allFinite() && lin.f2.b.allFinite() &&
+         lin.f1.H.allFinite() && lin.f2.H.allFinite();
+}
+
+// The merit the stopping rule and the acceptance test compare (see SolverOptions): the
+// weighted sum itself, or the Lagrangian F_1 + mu F_2 of the epsilon-constraint step; an
+// infeasible step (mu = inf) is judged by F_2 alone.
+double merit(const std::array<double, 2>& f, const Subproblem& sp, const StepResult& step) {
+  if (sp.kind == ScalarizationKind::kWeightedSum) return f[0] + sp.lambda * f[1];
+  if (!std::isfinite(step.multiplier)) return f[1];
+  return f[0] + step.multiplier * f[1];
+}
+
+}  // namespace
+
+Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend,
+              Eigen::VectorXd& x, const SolverOptions& options) {
+  const auto t_start = Clock::now();
+  const Manifold& manifold = problem.manifold();
+  if (x.size() != manifold.ambient_dim()) {
+    std::ostringstream msg;
+    msg << "solve(" << problem.name() << "): x has " << x.size() << " entries, the manifold needs "
+        << manifold.ambient_dim();
+    throw Error(msg.str());
+  }
+  if (!x.allFinite()) throw Error("solve(" + problem.name() + "): the initial x has NaN/Inf entries");
+  if (!backend.supports(scalarization.kind())) {
+    throw Error("backend '" + backend.name() + "' does not support " + scalarization.describe());
+  }
+  if (options.max_iterations < 0) {
+    throw Error("solve: max_iterations must be >= 0, got " + std::to_string(options.max_iterations));
+  }
+
+  Summary summary;
+  summary.problem = problem.name();
+  summary.backend = backend.name();
+  summary.kind = scalarization.kind();
+  summary.scalarization = scalarization.describe();
+  backend.reset();
+
+  LinearizeOptions lin_options;
+  lin_options.want_full = backend.needs_full_residuals() || options.want_full_residuals;
+  lin_options.update_weights = true;
+  lin_options.profile = &summary.phases;
+
+  Linearization lin = problem.linearize(x, lin_options);
+  validate_linearization(lin, manifold.tangent_dim());
+  std::array<double, 2> f = problem.evaluate(x);
+  if (!finite2(f)) {
+    std::ostringstream msg;
+    msg << "solve(" << problem.name() << "): objectives at the initial x are not finite (F1 = " << f[0]
+        << ", F2 = " << f[1] << ")";
+    throw Error(msg.str());
+  }
+  summary.initial_f1 = f[0];
+  summary.initial_f2 = f[1];
+  summary.termination = TerminationReason::kMaxIterations;
+  summary.message = "reached max_iterations = " + std::to_string(options.max_iterations);
+
+  int consecutive_rejections = 0;
+  const int max_rejections = 30;  // LM: damping grows 4x per rejection, 4^30 ~ 1e18
+  bool last_feasible = true;
+  bool stop = false;
+  for (int it = 1; it <= options.max_iterations && !stop; ++it) {
+    const auto t_iter = Clock::now();
+    const Subproblem sp = scalarization.make_subproblem(lin);
+    StepResult step;
+    {
+      ScopedPhase phase(&summary.phases, "subproblem");
+      step = backend.solve(sp);
+    }
+    IterationRecord rec;
+    rec.iteration = it;
+    rec.multiplier = step.multiplier;
+    rec.epsilon = sp.epsilon;
+    rec.feasible = step.feasible;
+    rec.inner_iterations = step.iterations;
+    summary.iterations = it;
+    summary.multiplier = step.multiplier;
+    summary.epsilon = sp.epsilon;
+    last_feasible = step.feasible;
+
+    if (step.delta.size() != manifold.tangent_dim()) {
+      std::ostringstream msg;
+      msg << "backend '" << backend.name() << "' returned a step of size " << step.delta.size() << ", expected "
+          << manifold.tangent_dim();
+      throw Error(msg.str());
+    }
+    if (!step.delta.allFinite()) {
+      summary.termination = TerminationReason::kNumericalFailure;
+      summary.message = "backend '" + backend.name() + "' returned a NaN/Inf step (" + step.status + ")";
+      rec.accepted = false;
+      rec.f1 = f[0];
+      rec.f2 = f[1];
+      rec.seconds = seconds_since(t_iter);
+      summary.records.push_back(rec);
+      break;
+    }
+    rec.step_norm = step.delta.norm();
+    const Eigen::VectorXd x_new = manifold.retract(x, step.delta);
+    const std::array<double, 2> f_new = x_new.allFinite() ? problem.evaluate(x_new)
+                                                          : std::array<double, 2>{NAN, NAN};
+    if (!finite2(f_new)) {
+      summary.termination = TerminationReason::kNumericalFailure;
+      summary.message = "objective is NaN/Inf after the step; x kept at the last good value";
+      rec.accepted = false;
+      rec.f1 = f[0];
+      rec.f2 = f[1];
+      rec.seconds = seconds_since(t_iter);
+      summary.records.push_back(rec);
+      break;
+    }
+    const double merit_old = merit(f, sp, step);
+    const double merit_new = merit(f_new, sp, step);
+    bool accepted = true;
+    if (backend.wants_acceptance_test()) {
+      accepted = merit_new <= merit_old;
+      backend.on_step_evaluated(accepted);
+    }
+    if (accepted) {
+      x = x_new;
+      f = f_new;
+      consecutive_rejections = 0;
+    } else {
+      ++consecutive_rejections;
+    }
+    rec.accepted = accepted;
+    rec.f1 = f[0];
+    rec.f2 = f[1];
+
+    if (rec.step_norm < options.step_tolerance) {
+      summary.termination = TerminationReason::kStepTolerance;
+      summary.message = "|step| = " + std::to_string(rec.step_norm);
+      stop = true;
+    } else if (std::abs(merit_old - merit_new) <= options.relative_decrease_tolerance * std::abs(merit_old)) {
+      summary.termination = TerminationReason::kRelativeDecrease;
+      std::ostringstream msg;
+      msg << "merit " << merit_old << " -> " << merit_new;
+      summary.message = msg.str();
+      stop = true;
+    } else if (consecutive_rejections >= max_rejections) {
+      summary.termination = TerminationReason::kNoProgress;
+      summary.message = std::to_string(max_rejections) + " consecutive rejected steps";
+      stop = true;
+    }
+    if (!stop && accepted && it < options.max_iterations) {
+      lin = problem.linearize(x, lin_options);
+      if (!finite_models(lin)) {
+        summary.termination = TerminationReason::kNumericalFailure;
+        summary.message = "linearization at the accepted x has NaN/Inf entries";
+        stop = true;
+      } else {
+        // The models' constants are F_j(x) under the re-estimated weights, so the next merit
+        // comparison is made on the objective the next step approximates.
+        f = {lin.f1.a, lin.f2.a};
+      }
+    }
+    rec.seconds = seconds_since(t_iter);
+    summary.records.push_back(rec);
+    if (options.verbosity > 0) {
+      std::fprintf(stderr, "bivo %s it %3d F1 %.6e F2 %.6e mult %.4e |d| %.3e %s%s\n", backend.name().c_str(), it,
+                   rec.f1, rec.f2, rec.multiplier, rec.step_norm, accepted ? "" : "rejected ",
+                   step.feasible ? "" : "infeasible");
+    }
+  }
+
+  summary.final_f1 = f[0];
+  summary.final_f2 = f[1];
+  summary.feasible = last_feasible;
+  if (summary.kind == ScalarizationKind::kEpsilonConstraint && summary.iterations > 0) {
+    summary.feasible = last_feasible && f[1] <= summary.epsilon * (1.0 + 1e-9) + 1e-300;
+  }
+  summary.total_seconds = seconds_since(t_start);
+  const double accounted = summary.phases.total_seconds();
+  summary.phases.add("other", std::max(0.0, summary.total_seconds - accounted));
+  if (options.profile) options.profile->merge(summary.phases);
+  return summary;
+}
+
+Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, const std::string& backend,
+              Eigen::VectorXd& x, const SolverOptions& options) {
+  const BackendInfo& info = backend_info(backend);
+  if (info.whole_problem) {
+    auto whole = info.make_whole();
+    if (!whole->supports(scalarization.kind())) {
+      throw Error("backend '" + backend + "' does not support " + scalarization.describe());
+    }
+    return whole->solve(problem, scalarization, x, options);
+  }
+  auto step = info.make_step();
+  return solve(problem, scalarization, *step, x, options);
+}
+
+}  // namespace bivo::solvers
