@@ -1,0 +1,31 @@
+#pragma once
+// Per-image statistics that drive the lambda / epsilon policies (paper Sec. III-A):
+// the complexity metric pi of eqs. `image complexity metric` / `depth complexity metric`,
+// variances for the scale factor of eq. `scale factor`, and medians for Tykkala's lambda.
+#include "odometry/rgbd_pyramid.h"
+
+namespace bivo::odometry {
+
+// pi(I) = 1/((v-2)(h-2)) sum_{interior} |I(i+1,j)-I(i-1,j)| + |I(i,j+1)-I(i,j-1)|.
+// With skip_missing (depth) a difference is used only when both of its values are valid
+// (> 0) and the sum is divided by half the number of differences used, so a fully valid
+// image gives exactly the paper's value. Returns 0 when no difference is usable.
+double complexity_metric(const ImageF& image, bool skip_missing);
+
+// Population variance of the values (valid ones only with skip_missing); 0 if none.
+double variance(const ImageF& image, bool skip_missing);
+
+// Median of the values (valid ones only with skip_missing); 0 if none.
+double median(const ImageF& image, bool skip_missing);
+
+// Everything the policies need from one frame, computed once per pair.
+struct FrameStatistics {
+  double pi_intensity = 0.0;  // gray levels per pixel
+  double pi_depth = 0.0;      // metres per pixel
+  double var_intensity = 0.0, var_depth = 0.0;
+  double median_intensity = 0.0, median_depth = 0.0;
+  double valid_depth_fraction = 0.0;
+};
+FrameStatistics frame_statistics(const RgbdLevel& level);
+
+}  // namespace bivo::odometry

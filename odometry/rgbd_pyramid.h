@@ -1,0 +1,44 @@
+#pragma once
+// Image pyramids of one RGB-D frame: level 0 is the full image, each next level halves
+// both sizes by 2x2 averaging. Intensity averages all four pixels; depth averages only the
+// valid (non-zero) ones and stays 0 (missing) when none of the four is valid.
+#include <vector>
+
+#include "odometry/camera_intrinsics.h"
+#include "odometry/tum_dataset.h"
+
+namespace bivo::odometry {
+
+// Row-major float image.
+struct ImageF {
+  int width = 0, height = 0;
+  std::vector<float> data;
+
+  float at(int x, int y) const { return data[static_cast<std::size_t>(y) * width + x]; }
+  float& at(int x, int y) { return data[static_cast<std::size_t>(y) * width + x]; }
+};
+
+struct RgbdLevel {
+  int level = 0;
+  ImageF intensity;  // 0..255
+  ImageF depth;      // metres, 0 = missing
+  Intrinsics K;      // intrinsics of this level
+};
+
+struct RgbdPyramid {
+  double timestamp = 0.0;
+  std::vector<RgbdLevel> levels;  // [0] = full resolution
+};
+
+ImageF downsample_intensity(const ImageF& fine);
+ImageF downsample_depth(const ImageF& fine);
+
+// Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8.
+RgbdPyramid build_pyramid(const RgbdImage& image, const Intrinsics& K, int levels);
+
+// Central-difference gradients (x: columns, y: rows), zero on the border; used for the
+// image statistics and for visualisation (the residual Jacobians differentiate the
+// bilinear interpolant exactly instead).
+void central_gradients(const ImageF& image, ImageF& gx, ImageF& gy);
+
+}  // namespace bivo::odometry

@@ -1,0 +1,36 @@
+#pragma once
+// Robust per-residual weights (the diagonal of Omega_I / Omega_D, paper eqs. `quadratic
+// form`, `depth quadratic`), computed the same way for every method so methods differ only
+// in how they combine F_I and F_D.
+//
+//  * t-distribution (Kerl, Sturm, Cremers, ICRA 2013, default nu = 5): the scale solves
+//      sigma^2 = 1/n sum_i r_i^2 (nu + 1) / (nu + r_i^2 / sigma^2)
+//    by fixed-point iteration; w_i = (nu + 1) / (nu + r_i^2 / sigma^2).
+//  * Huber (k = 1.345 sigma, sigma = 1.4826 * median |r|): w_i = min(1, k sigma / |r_i|).
+//  * none: w_i = 1.
+#include <string>
+#include <vector>
+
+namespace bivo::odometry {
+
+enum class WeightKind { kTDistribution, kHuber, kNone };
+
+// "t" / "tdist", "huber", "none"; unknown -> bivo::Error listing the valid names.
+WeightKind parse_weight_kind(const std::string& name);
+const char* to_string(WeightKind kind);
+
+struct WeightOptions {
+  WeightKind kind = WeightKind::kTDistribution;
+  double nu = 5.0;            // degrees of freedom of the t-distribution
+  double huber_k = 1.345;     // Huber threshold in units of the robust scale
+  int max_scale_iterations = 50;
+  double scale_tolerance = 1e-6;  // relative change of sigma^2 that ends the iteration
+};
+
+// Fills weights[i] for the residuals with valid[i] != 0 (weights[i] = 0 elsewhere) and
+// returns the scale sigma (0 when there are no valid residuals or all are 0; the weights
+// are then 1). residuals, valid and weights have the same length.
+double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n,
+                       const WeightOptions& options, float* weights);
+
+}  // namespace bivo::odometry
