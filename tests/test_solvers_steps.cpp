@@ -3,6 +3,7 @@
 // optimum computed by QR), the exact step against a brute-force bisection on mu (dense LU, no
 // Newton) and the KKT conditions, and the rank-deficient / inactive / infeasible cases.
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -22,6 +23,12 @@ using bivo::problems::LinearLeastSquaresPair;
 using bivo::solvers::QuadraticModel;
 
 namespace {
+
+std::string scientific(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3e", v);
+  return buf;
+}
 
 double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
   return (got - want).norm() / std::max(1.0, want.norm());
@@ -94,7 +101,7 @@ TEST(SolversGaussNewtonStep, OneStepReachesClosedFormOn100RandomDraws) {
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-8) << p.name() << " lambda " << lambda;
   }
-  RecordProperty("worst_relative_error", std::to_string(worst));
+  RecordProperty("worst_relative_error", scientific(worst));
 }
 
 TEST(SolversLevenbergMarquardtStep, UndampedLimitIsGaussNewtonAndDampingShortensTheStep) {
@@ -138,7 +145,7 @@ TEST(SolversExactStep, OneStepReachesClosedFormEpsilonOptimumOn100RandomDraws) {
     EXPECT_LT(e, 1e-8) << p.name() << " eps " << eps;
     EXPECT_NEAR(step.multiplier, oracle.mu, 1e-6 * oracle.mu);
   }
-  RecordProperty("worst_relative_error", std::to_string(worst));
+  RecordProperty("worst_relative_error", scientific(worst));
 }
 
 TEST(SolversExactStep, MatchesBruteForceMuAndSatisfiesKktOn100RandomModels) {
