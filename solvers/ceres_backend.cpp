@@ -185,6 +185,9 @@ class CeresBackend final : public WholeProblemBackend {
     so.minimizer_type = ceres::TRUST_REGION;
     so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
     so.linear_solver_type = ceres::DENSE_QR;
+    // Start nearly undamped (a Gauss-Newton step); Ceres' default radius 1e4 would damp the
+    // first steps of problems in raw odometry units.
+    so.initial_trust_region_radius = 1e12;
     so.max_num_iterations = options.max_iterations;
     so.function_tolerance = options.relative_decrease_tolerance;
     so.parameter_tolerance = options.step_tolerance;
