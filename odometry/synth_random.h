@@ -31,6 +31,24 @@ inline double gaussian(std::uint64_t seed, std::uint64_t stream, std::uint64_t i
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
+// Per-pixel noise in the renderer's inner loop: Marsaglia's polar method on hashes of
+// (key, index, attempt) gives two independent standard normals without trigonometry
+// (accepts 78.5% of attempts). `key` is hash3(seed, stream, frame), computed once per frame.
+struct NormalPair {
+  float a, b;
+};
+inline NormalPair gaussian_pair(std::uint64_t key, std::uint64_t index) {
+  for (std::uint64_t attempt = 0;; ++attempt) {
+    const std::uint64_t bits = mix64(key ^ (index * 0xD1B54A32D192ED03ull) ^ (attempt << 58));
+    const float x = static_cast<float>(bits >> 40) * (2.0f / 16777216.0f) - 1.0f;  // [-1, 1)
+    const float y = static_cast<float>((bits >> 8) & 0xFFFFFFu) * (2.0f / 16777216.0f) - 1.0f;
+    const float s = x * x + y * y;
+    if (s >= 1.0f || s == 0.0f) continue;
+    const float f = std::sqrt(-2.0f * std::log(s) / s);
+    return {x * f, y * f};
+  }
+}
+
 // Sequential generator for scene construction (shapes, colours): a counter over hash3.
 class HashRng {
  public:

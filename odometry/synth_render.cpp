@@ -88,6 +88,8 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     panels.push_back(c);
   }
   const Eigen::Vector3d light_c = R_cw * scene.light_direction;
+  std::vector<std::uint64_t> panel_keys;  // which poster each texture cell shows
+  for (std::size_t k = 0; k < scene.panels.size(); ++k) panel_keys.push_back(hash3(scene.seed, 0xCE11, k));
 
   const int W = cam.width, H = cam.height, ss = settings.supersampling;
   const double focal = std::sqrt(cam.fx * cam.fy);
@@ -110,7 +112,9 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     const double u_m = hit.a * p.len_u, v_m = hit.b * p.len_v;
     const double cu = std::floor(u_m / m.tile_u_m), cv = std::floor(v_m / m.tile_v_m);
     const std::uint64_t cell = (static_cast<std::uint64_t>(cu) << 32) ^ static_cast<std::uint64_t>(cv);
-    const int tex = m.textures[hash3(scene.seed, static_cast<std::uint64_t>(hit.panel), cell) % m.textures.size()];
+    const int tex = m.textures.size() == 1
+                        ? m.textures[0]
+                        : m.textures[mix64(panel_keys[hit.panel] ^ cell) % m.textures.size()];
     const MipTexture& T = scene.textures[tex];
     // Footprint on the surface: z/f per pixel across the ray, stretched by 1/cos along
     // the slope; the geometric mean of the two makes an isotropic filter width.
@@ -123,17 +127,31 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     return albedo * static_cast<float>(lit);
   };
 
+  // Pass 1: the centre ray of every pixel (depth, incidence, which panel it sees).
+  std::vector<Hit> hits(static_cast<std::size_t>(W) * H);
   for (int v = 0; v < H; ++v) {
     for (int u = 0; u < W; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * W + u;
       const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
-      const Hit centre = cast(panels, ray);
-      out.true_depth[i] = static_cast<float>(centre.z);
-      if (centre.panel >= 0) {
-        cos_incidence[i] = static_cast<float>(std::fabs(panels[centre.panel].normal.dot(ray)) / ray.norm());
+      hits[i] = cast(panels, ray);
+      out.true_depth[i] = static_cast<float>(hits[i].z);
+      if (hits[i].panel >= 0) {
+        cos_incidence[i] = static_cast<float>(std::fabs(panels[hits[i].panel].normal.dot(ray)) / ray.norm());
       }
-      if (ss == 1) {
-        radiance[i] = shade(ray, centre, 1.0);
+    }
+  }
+  // Pass 2: colour. Textures are prefiltered (mip) over the pixel footprint, which
+  // anti-aliases their interior; only pixels on a silhouette or panel seam (a 4-neighbour
+  // sees another panel) are supersampled ss x ss to anti-alias geometric edges.
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * W + u;
+      const int id = hits[i].panel;
+      const bool seam = (u > 0 && hits[i - 1].panel != id) || (u + 1 < W && hits[i + 1].panel != id) ||
+                        (v > 0 && hits[i - W].panel != id) || (v + 1 < H && hits[i + W].panel != id);
+      if (ss == 1 || !seam) {
+        const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
+        radiance[i] = shade(ray, hits[i], 1.0);
         continue;
       }
       Eigen::Vector3f acc = Eigen::Vector3f::Zero();
@@ -180,12 +198,13 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
   }
 
   const double fb = cam.fx * dm.baseline_m;
+  const std::uint64_t depth_key = hash3(settings.noise_seed, kDepthStream, frame_index);
   std::size_t n_valid = 0;
   for (std::size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) continue;
     double z = out.true_depth[i];
     if (settings.sensor_noise) {
-      z += dm.noise_coeff * z * z * gaussian(settings.noise_seed, hash3(kDepthStream, frame_index, 0), i);
+      z += dm.noise_coeff * z * z * gaussian_pair(depth_key, i).a;
       if (dm.disparity_step_px > 0 && z > 0) {
         const double disparity = std::round(fb / z / dm.disparity_step_px) * dm.disparity_step_px;
         z = disparity > 0 ? fb / disparity : 0.0;
@@ -203,15 +222,20 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
                           ? std::exp(im.exposure_jitter * gaussian(settings.noise_seed, kExposureStream, frame_index))
                           : 1.0;
   const double scale = im.full_scale * out.exposure_gain;
-  const std::uint64_t istream = hash3(kIntensityStream, frame_index, 0);
+  const std::uint64_t intensity_key = hash3(settings.noise_seed, kIntensityStream, frame_index);
+  const float read2 = static_cast<float>(im.read_noise * im.read_noise);
+  const float shot = static_cast<float>(im.shot_noise_gain);
   for (std::size_t i = 0; i < radiance.size(); ++i) {
+    float value[3];
+    for (int c = 0; c < 3; ++c) value[c] = static_cast<float>(scale) * radiance[i][c];
+    if (settings.sensor_noise) {
+      // Two independent pairs of normals per pixel: three channels, one spare.
+      const NormalPair n01 = gaussian_pair(intensity_key, 2 * i), n23 = gaussian_pair(intensity_key, 2 * i + 1);
+      const float n[3] = {n01.a, n01.b, n23.a};
+      for (int c = 0; c < 3; ++c) value[c] += std::sqrt(read2 + shot * std::max(0.0f, value[c])) * n[c];
+    }
     for (int c = 0; c < 3; ++c) {
-      double value = scale * radiance[i][c];
-      if (settings.sensor_noise) {
-        const double sigma = std::sqrt(im.read_noise * im.read_noise + im.shot_noise_gain * std::max(0.0, value));
-        value += sigma * gaussian(settings.noise_seed, istream, 3 * i + c);
-      }
-      out.rgb[3 * i + c] = static_cast<std::uint8_t>(std::clamp(std::round(value), 0.0, 255.0));
+      out.rgb[3 * i + c] = static_cast<std::uint8_t>(std::clamp(std::round(value[c]), 0.0f, 255.0f));
     }
   }
   return out;

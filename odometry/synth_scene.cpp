@@ -128,9 +128,9 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
   const double d = category.distance_m();
   if (category.structure) {
     // Zig-zag profile in the (y, z) plane: fold lines alternate between y = 0 (towards the
-    // camera) and y = 0.3, every 0.4 m of height; extruded along x.
+    // camera) and y = 0.3, every 0.3 m of height up to 1.2 m; extruded along x.
     const double ys[] = {0.0, 0.3, 0.0, 0.3, 0.0};
-    const double zs[] = {0.0, 0.4, 0.8, 1.2, 1.6};
+    const double zs[] = {0.0, 0.3, 0.6, 0.9, 1.2};
     for (int i = 0; i < 4; ++i) {
       const Eigen::Vector3d a(-kHalfLength, ys[i], zs[i]);
       const Eigen::Vector3d b(-kHalfLength, ys[i + 1], zs[i + 1]);
@@ -138,8 +138,8 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
     }
     s.panels.push_back(rectangle("floor", {-kHalfLength, -6.0, 0.0}, along, {0, 7.5, 0}, 1));
     s.panels.push_back(rectangle("wall", {-kHalfLength, 1.5, 0.0}, along, {0, 0, 3.0}, 2));
-    // Looking 15 degrees down at the middle of the zig-zag.
-    s.target = Eigen::Vector3d(0.0, 0.15, 0.8);
+    // Looking 15 degrees down at the zig-zag, mid-way between two folds (on its surface).
+    s.target = Eigen::Vector3d(0.0, 0.15, 0.45);
     const double pitch = 15.0 * M_PI / 180.0;
     const Eigen::Vector3d dir(0.0, std::cos(pitch), -std::sin(pitch));
     s.nominal_T_wc = look_at(s.target - d * dir, s.target);

@@ -3,8 +3,9 @@
 // textured rectangles, a directional light, and the nominal camera pose from which the
 // scene is viewed at the category's distance.
 //
-//  * structure: an upright zig-zag of four wooden panels (horizontal fold lines, 0.5 m
-//    slant each, 0.3 m fold depth, 12 m long) standing on a floor, with a wall behind it;
+//  * structure: an upright zig-zag of four wooden panels (horizontal fold lines every
+//    0.3 m of height, 0.3 m fold depth, 1.2 m high, 12 m long) standing on a floor, with
+//    a wall 1.5 m behind it;
 //  * nostructure: one single plane (the floor), viewed obliquely (50 degrees down);
 //  * texture: the zig-zag panels (or the plane) are covered with colourful posters;
 //  * notexture: they are covered with near-uniform white foil (1% low-frequency albedo
