@@ -1,0 +1,267 @@
+#include "solvers/conic/ipm_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <ostream>
+
+#include "solvers/conic/cones.h"
+#include "solvers/conic/kkt_system.h"
+#include "solvers/conic/residuals.h"
+#include "solvers/conic/variables.h"
+
+namespace bivo::solvers::conic {
+
+std::string to_string(IpmStatus status) {
+  switch (status) {
+    case IpmStatus::kOptimal: return "optimal";
+    case IpmStatus::kPrimalInfeasible: return "primal infeasible";
+    case IpmStatus::kDualInfeasible: return "dual infeasible";
+    case IpmStatus::kMaxIterations: return "max iterations";
+    case IpmStatus::kNumericalTrouble: return "numerical trouble";
+  }
+  return "unknown";
+}
+
+namespace {
+
+struct Direction {
+  Eigen::VectorXd dx, dy, dz, ds_scaled, dz_scaled;  // ds_scaled = W^{-1} ds, dz_scaled = W dz
+  double dtau = 0.0, dkappa = 0.0;
+};
+
+class Solver {
+ public:
+  Solver(const ConicProblem& original, const IpmSettings& settings)
+      : op_(original), st_(settings), sp_(original) {
+    const int n = original.num_variables();
+    if (sp_.A.cols() != n) sp_.A.resize(0, n);
+    if (sp_.G.cols() != n) sp_.G.resize(0, n);
+    eq_ = st_.equilibration_passes > 0 ? equilibrate(sp_, st_.equilibration_passes) : identity_equilibration(sp_);
+    cones_ = std::make_unique<ConeProduct>(sp_.cones);
+    KktSettings ks;
+    ks.static_regularization = st_.static_regularization;
+    ks.max_refinement_steps = st_.max_refinement_steps;
+    kkt_ = std::make_unique<KktSystem>(sp_.A, sp_.G, *cones_, ks);
+    n_ = n;
+    p_ = sp_.num_equalities();
+    m_ = sp_.num_cone_rows();
+    cbh_.resize(n_ + p_ + m_);
+    cbh_ << -sp_.c, sp_.b, sp_.h;
+  }
+
+  IpmResult run();
+
+ private:
+  bool initialize();
+  bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d);
+  double max_step(const Direction& d) const;
+  IpmResult finish(IpmStatus status, const Variables& v, int iterations);
+  IpmResult trouble(const char* where, int iterations) {
+    if (st_.log) *st_.log << "numerical trouble in " << where << "\n";
+    return finish(IpmStatus::kNumericalTrouble, v_, iterations);
+  }
+  void log_header() const;
+  void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const;
+
+  const ConicProblem& op_;
+  IpmSettings st_;
+  ConicProblem sp_;
+  Equilibration eq_;
+  std::unique_ptr<ConeProduct> cones_;
+  std::unique_ptr<KktSystem> kkt_;
+  int n_ = 0, p_ = 0, m_ = 0;
+  Eigen::VectorXd cbh_;  // [-c; b; h]: the tau column of the embedding
+  Variables v_;
+  Residuals r_;
+  NtScaling w_;
+  Eigen::VectorXd lambda_, x1_;  // x1_ = K^{-1} [-c; b; h]
+  double denom_ = 0.0;           // kappa/tau + ||W z1||^2, minus the kappa/tau part
+};
+
+bool Solver::initialize() {
+  v_.resize(n_, p_, m_);
+  if (!kkt_->factor(cones_->identity_scaling())) return false;
+  Eigen::VectorXd rhs(n_ + p_ + m_), sol;
+  // Primal start: min ||G x - h||^2 s.t. A x = b, s = h - G x shifted into K.
+  rhs << Eigen::VectorXd::Zero(n_), sp_.b, sp_.h;
+  if (!kkt_->solve(rhs, sol)) return false;
+  v_.x = sol.head(n_);
+  v_.s = -sol.tail(m_);
+  // Dual start: min ||z||^2 s.t. A^T y + G^T z + c = 0, shifted into K.
+  rhs << -sp_.c, Eigen::VectorXd::Zero(p_), Eigen::VectorXd::Zero(m_);
+  if (!kkt_->solve(rhs, sol)) return false;
+  v_.y = sol.segment(n_, p_);
+  v_.z = sol.tail(m_);
+  if (m_ > 0) {
+    const double es = cones_->min_eigenvalue(v_.s);
+    if (es <= 0.0) cones_->add_identity(v_.s, 1.0 - es);
+    const double ez = cones_->min_eigenvalue(v_.z);
+    if (ez <= 0.0) cones_->add_identity(v_.z, 1.0 - ez);
+  }
+  v_.tau = 1.0;
+  v_.kappa = 1.0;
+  return v_.x.allFinite() && v_.y.allFinite() && v_.z.allFinite() && v_.s.allFinite();
+}
+
+bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d) {
+  const double f = 1.0 - sigma;
+  Eigen::VectorXd wbs;
+  cones_->apply_w(w_, bs, wbs);
+  Eigen::VectorXd rhs(n_ + p_ + m_), sol;
+  rhs << f * r_.rx, -f * r_.ry, -f * r_.rz - wbs;
+  if (!kkt_->solve(rhs, sol)) return false;
+  const double tau = v_.tau, kappa = v_.kappa;
+  const double den = kappa / tau + denom_;
+  d.dtau = (f * r_.rtau + rk / tau + cbh_.tail(p_ + m_).dot(sol.tail(p_ + m_)) + sp_.c.dot(sol.head(n_))) / den;
+  d.dx = sol.head(n_) + d.dtau * x1_.head(n_);
+  d.dy = sol.segment(n_, p_) + d.dtau * x1_.segment(n_, p_);
+  d.dz = sol.tail(m_) + d.dtau * x1_.tail(m_);
+  cones_->apply_w(w_, d.dz, d.dz_scaled);
+  d.ds_scaled = bs - d.dz_scaled;
+  d.dkappa = (rk - kappa * d.dtau) / tau;
+  return std::isfinite(d.dtau) && d.dx.allFinite() && d.dz.allFinite() && d.ds_scaled.allFinite();
+}
+
+double Solver::max_step(const Direction& d) const {
+  double a = std::numeric_limits<double>::infinity();
+  if (m_ > 0) {
+    a = std::min(a, cones_->max_step(lambda_, d.ds_scaled));
+    a = std::min(a, cones_->max_step(lambda_, d.dz_scaled));
+  }
+  if (d.dtau < 0.0) a = std::min(a, -v_.tau / d.dtau);
+  if (d.dkappa < 0.0) a = std::min(a, -v_.kappa / d.dkappa);
+  return a;
+}
+
+IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
+  IpmResult res;
+  res.status = status;
+  res.iterations = iterations;
+  double scale = v.tau;
+  double yz_scale = v.tau;
+  if (status == IpmStatus::kPrimalInfeasible) {
+    yz_scale = -r_.hz_by;  // certificate normalized to h^T z + b^T y = -1
+    scale = std::numeric_limits<double>::infinity();
+  } else if (status == IpmStatus::kDualInfeasible) {
+    scale = -r_.cx;  // certificate normalized to c^T x = -1
+    yz_scale = std::numeric_limits<double>::infinity();
+  }
+  auto safe = [](double s) { return std::isfinite(s) && s > 0.0; };
+  res.x = safe(scale) ? Eigen::VectorXd(eq_.col.cwiseProduct(v.x) / scale) : Eigen::VectorXd::Zero(n_);
+  res.s = safe(scale) ? Eigen::VectorXd(v.s.cwiseQuotient(eq_.row_cone) / scale) : Eigen::VectorXd::Zero(m_);
+  res.y = safe(yz_scale) ? Eigen::VectorXd(eq_.row_eq.cwiseProduct(v.y) / yz_scale) : Eigen::VectorXd::Zero(p_);
+  res.z = safe(yz_scale) ? Eigen::VectorXd(eq_.row_cone.cwiseProduct(v.z) / yz_scale) : Eigen::VectorXd::Zero(m_);
+  res.primal_objective = r_.primal_objective;
+  res.dual_objective = r_.dual_objective;
+  res.primal_residual = r_.primal_residual;
+  res.dual_residual = r_.dual_residual;
+  res.gap = r_.gap;
+  res.relative_gap = r_.relative_gap;
+  res.kkt_factor_nonzeros = kkt_->factor_nonzeros();
+  return res;
+}
+
+void Solver::log_header() const {
+  if (!st_.log) return;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), KKT %d x %d, L nnz %ld\n",
+                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_->expanded_size(),
+                kkt_->expanded_size(), kkt_->factor_nonzeros());
+  *st_.log << buf;
+  *st_.log << "iter      pcost        dcost       gap     pres     dres     k/t       mu     step   sigma  ref\n";
+}
+
+void Solver::log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const {
+  if (!st_.log) return;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%3d %+.5e %+.5e %8.1e %8.1e %8.1e %8.1e %8.1e %7.4f %7.4f %3d\n", k,
+                r.primal_objective, r.dual_objective, r.gap, r.primal_residual, r.dual_residual,
+                v_.kappa / v_.tau, mu, step, sigma, kkt_->last_refinement_steps());
+  *st_.log << buf;
+}
+
+IpmResult Solver::run() {
+  log_header();
+  if (!initialize()) {
+    compute_residuals(sp_, op_, eq_, v_, r_);
+    return finish(IpmStatus::kNumericalTrouble, v_, 0);
+  }
+  Variables last_good = v_;
+  double step = 0.0, sigma = 0.0;
+  const Eigen::VectorXd e = cones_->identity();
+  for (int k = 0;; ++k) {
+    compute_residuals(sp_, op_, eq_, v_, r_);
+    const double mu = (v_.s.dot(v_.z) + v_.tau * v_.kappa) / (cones_->degree() + 1);
+    log_iteration(k, r_, mu, step, sigma);
+    if (!std::isfinite(r_.primal_residual) || !std::isfinite(r_.dual_residual) || !std::isfinite(mu)) {
+      v_ = last_good;
+      compute_residuals(sp_, op_, eq_, v_, r_);
+      return finish(IpmStatus::kNumericalTrouble, v_, k);
+    }
+    if (r_.primal_residual < st_.feastol && r_.dual_residual < st_.feastol &&
+        (r_.gap < st_.abstol || r_.relative_gap < st_.reltol)) {
+      return finish(IpmStatus::kOptimal, v_, k);
+    }
+    if (r_.hz_by < 0.0 && r_.primal_infeasibility < st_.feastol) return finish(IpmStatus::kPrimalInfeasible, v_, k);
+    if (r_.cx < 0.0 && r_.dual_infeasibility < st_.feastol) return finish(IpmStatus::kDualInfeasible, v_, k);
+    if (k >= st_.max_iterations) return finish(IpmStatus::kMaxIterations, v_, k);
+    last_good = v_;
+
+    if (!cones_->compute_scaling(v_.s, v_.z, w_, lambda_)) return trouble("scaling", k);
+    if (!kkt_->factor(w_)) return trouble("factor", k);
+    if (!kkt_->solve(cbh_, x1_)) return trouble("solve", k);
+    // -[c; b; h]^T x1 = ||W z1||^2 > 0 (exactly, for the unregularized system).
+    denom_ = -(sp_.c.dot(x1_.head(n_)) + cbh_.tail(p_ + m_).dot(x1_.tail(p_ + m_)));
+    // Predictor (affine scaling): sigma = 0, target lambda o lambda -> 0.
+    Direction aff, cor;
+    const Eigen::VectorXd bs_aff = -lambda_;
+    if (!direction(0.0, bs_aff, -v_.kappa * v_.tau, aff)) return trouble("predictor", k);
+    const double a_aff = std::min(1.0, max_step(aff));
+    sigma = std::clamp(std::pow(1.0 - a_aff, 3), 1e-4, 1.0);
+    // Corrector: centering sigma mu plus Mehrotra's second-order term.
+    Eigen::VectorXd ll, corr, bs;
+    cones_->jordan_product(lambda_, lambda_, ll);
+    cones_->jordan_product(aff.ds_scaled, aff.dz_scaled, corr);
+    Eigen::VectorXd rc = -ll + sigma * mu * e - corr;
+    cones_->jordan_divide(lambda_, rc, bs);
+    const double rk = -v_.kappa * v_.tau + sigma * mu - aff.dkappa * aff.dtau;
+    if (!direction(sigma, bs, rk, cor)) return trouble("corrector", k);
+    step = std::min(1.0, st_.step_fraction * max_step(cor));
+    Eigen::VectorXd ds;
+    cones_->apply_w(w_, cor.ds_scaled, ds);
+    // Rounding can push s or z out of K by a hair near the boundary: back off if so.
+    bool moved = false;
+    for (int tries = 0; tries < 20 && step > 1e-12; ++tries, step *= 0.5) {
+      Variables nv = v_;
+      nv.x += step * cor.dx;
+      nv.y += step * cor.dy;
+      nv.z += step * cor.dz;
+      nv.s += step * ds;
+      nv.tau += step * cor.dtau;
+      nv.kappa += step * cor.dkappa;
+      if ((m_ == 0 || (cones_->interior(nv.s) && cones_->interior(nv.z))) && nv.tau > 0.0 && nv.kappa > 0.0) {
+        v_ = std::move(nv);
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) return trouble("step", k);
+  }
+}
+
+}  // namespace
+
+IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
+  validate(problem);
+  const auto t0 = std::chrono::steady_clock::now();
+  Solver solver(problem, settings);
+  IpmResult r = solver.run();
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace bivo::solvers::conic

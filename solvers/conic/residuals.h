@@ -1,0 +1,35 @@
+#pragma once
+// Residuals of the homogeneous self-dual embedding and the ECOS-like stopping measures.
+//   rx = -(A^T y + G^T z + c tau),  ry = A x - b tau,  rz = s + G x - h tau,
+//   rtau = kappa + c^T x + b^T y + h^T z.
+// Stopping measures are computed in the ORIGINAL (unequilibrated) units so tolerances
+// mean the same with and without equilibration.
+#include <Eigen/Core>
+
+#include "solvers/conic/problem_data.h"
+#include "solvers/conic/variables.h"
+
+namespace bivo::solvers::conic {
+
+struct Residuals {
+  // Embedding residuals (scaled problem), used by the Newton step.
+  Eigen::VectorXd rx, ry, rz;
+  double rtau = 0.0;
+
+  // Measures on (x, y, z, s)/tau in original units.
+  double primal_objective = 0.0, dual_objective = 0.0;
+  double gap = 0.0, relative_gap = 0.0;
+  double primal_residual = 0.0;  // max(||A x - b|| / max(1,||b||), ||G x + s - h|| / max(1,||h||))
+  double dual_residual = 0.0;    // ||A^T y + G^T z + c|| / max(1, ||c||)
+  // Infeasibility certificates on the unnormalized iterate (original units):
+  double hz_by = 0.0;            // h^T z + b^T y   (< 0 for a primal infeasibility certificate)
+  double primal_infeasibility = 0.0;  // ||A^T y + G^T z|| / -(h^T z + b^T y)
+  double cx = 0.0;               // c^T x           (< 0 for a dual infeasibility certificate)
+  double dual_infeasibility = 0.0;    // max(||A x||, ||G x + s||) / -c^T x
+};
+
+// `scaled` is the problem the IPM iterates on, `original` the user's, `eq` maps between them.
+void compute_residuals(const ConicProblem& scaled, const ConicProblem& original, const Equilibration& eq,
+                       const Variables& v, Residuals& r);
+
+}  // namespace bivo::solvers::conic
