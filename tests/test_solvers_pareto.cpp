@@ -1,0 +1,141 @@
+// Pareto sweeps against the analytic fronts of the linear pairs (QR closed forms), the
+// dominance filter, the knee and the hypervolume against hand-computed values.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "problems/linear_least_squares_pair.h"
+#include "solvers/error.h"
+#include "solvers/pareto.h"
+
+using namespace bivo;
+using bivo::problems::LinearLeastSquaresPair;
+using bivo::solvers::ParetoPoint;
+
+namespace {
+
+double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
+  return (got - want).norm() / std::max(1.0, want.norm());
+}
+
+ParetoPoint pt(double f1, double f2) {
+  ParetoPoint p;
+  p.f1 = f1;
+  p.f2 = f2;
+  return p;
+}
+
+// Independent pairwise check (not solvers::dominates).
+void expect_mutually_nondominated(const std::vector<ParetoPoint>& pts) {
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (std::size_t j = 0; j < pts.size(); ++j) {
+      if (i == j) continue;
+      const bool worse_or_equal = pts[j].f1 >= pts[i].f1 && pts[j].f2 >= pts[i].f2;
+      EXPECT_FALSE(worse_or_equal) << "point " << j << " (" << pts[j].f1 << ", " << pts[j].f2
+                                   << ") is dominated by or equal to point " << i << " (" << pts[i].f1 << ", "
+                                   << pts[i].f2 << ")";
+    }
+  }
+}
+
+solvers::ParetoOptions tight(int points) {
+  solvers::ParetoOptions o;
+  o.points = points;
+  o.solver.relative_decrease_tolerance = 1e-20;
+  o.solver.step_tolerance = 1e-12;
+  return o;
+}
+
+}  // namespace
+
+TEST(SolversPareto, LambdaSweepReproducesTheAnalyticFront) {
+  for (auto p : {LinearLeastSquaresPair::well_conditioned(5, 31), LinearLeastSquaresPair::ill_conditioned(5, 32, 1e3)}) {
+    const auto front = solvers::sweep_lambda(p, Eigen::VectorXd::Zero(5), tight(25));
+    ASSERT_EQ(front.all.size(), 25u);
+    EXPECT_EQ(front.dropped, 0) << p.name();
+    ASSERT_EQ(front.points.size(), 25u);
+    for (const auto& q : front.points) {
+      const Eigen::VectorXd want = p.weighted_sum_optimum(q.parameter);
+      EXPECT_LT(rel_err(q.x, want), 1e-6) << p.name() << " lambda " << q.parameter;
+      const auto f = p.objectives(want);
+      EXPECT_NEAR(q.f1, f[0], 1e-6 * std::max(1.0, f[0]));
+      EXPECT_NEAR(q.f2, f[1], 1e-6 * std::max(1.0, f[1]));
+    }
+    expect_mutually_nondominated(front.points);
+    for (std::size_t i = 1; i < front.points.size(); ++i) EXPECT_LT(front.points[i - 1].f1, front.points[i].f1);
+  }
+}
+
+TEST(SolversPareto, EpsilonSweepReproducesTheAnalyticFrontAndItsRange) {
+  for (auto p : {LinearLeastSquaresPair::well_conditioned(4, 41), LinearLeastSquaresPair::ill_conditioned(6, 42, 1e3)}) {
+    const int n = p.dim();
+    const auto front = solvers::sweep_epsilon(p, Eigen::VectorXd::Zero(n), tight(15));
+    const double f2_min = p.objectives(p.minimizer(2))[1];
+    const double f2_at_f1_min = p.objectives(p.minimizer(1))[1];
+    EXPECT_NEAR(front.f2_min, f2_min, 1e-9 * f2_min) << p.name();
+    EXPECT_NEAR(front.f2_at_f1_min, f2_at_f1_min, 1e-9 * f2_at_f1_min) << p.name();
+    ASSERT_EQ(front.all.size(), 15u);
+    for (const auto& q : front.all) {
+      const auto oracle = p.epsilon_constraint_optimum(q.parameter);
+      // The tight end (epsilon = min F2) has no finite multiplier; it is the F2-minimizer.
+      EXPECT_LT(rel_err(q.x, oracle.x), 1e-6) << p.name() << " eps " << q.parameter;
+      EXPECT_LE(q.f2, q.parameter * (1.0 + 1e-9));
+    }
+    EXPECT_GE(front.points.size(), 14u);  // the two ends may coincide numerically with neighbours only
+    expect_mutually_nondominated(front.points);
+  }
+}
+
+TEST(SolversPareto, DominatedPointsAndDuplicatesAreDropped) {
+  const std::vector<ParetoPoint> pts = {pt(1, 5), pt(2, 2), pt(3, 3), pt(2, 2), pt(4, 1), pt(5, 1), pt(0.5, 9)};
+  const auto nd = solvers::nondominated(pts);
+  ASSERT_EQ(nd.size(), 4u);
+  EXPECT_EQ(nd[0].f1, 0.5);
+  EXPECT_EQ(nd[1].f1, 1.0);
+  EXPECT_EQ(nd[2].f1, 2.0);
+  EXPECT_EQ(nd[3].f1, 4.0);
+  EXPECT_TRUE(solvers::dominates(pt(1, 1), pt(1, 2)));
+  EXPECT_FALSE(solvers::dominates(pt(1, 1), pt(1, 1)));
+  EXPECT_FALSE(solvers::dominates(pt(1, 3), pt(2, 2)));
+}
+
+TEST(SolversPareto, KneeIsFarthestFromTheChordInNormalizedSpace) {
+  // Normalized front (0,1), (0.1,0.3), (0.5,0.1), (1,0): distances to x + y = 1 are
+  // 0, 0.6/sqrt2, 0.4/sqrt2, 0 -> knee at index 1.
+  std::vector<ParetoPoint> front = {pt(0, 1), pt(0.1, 0.3), pt(0.5, 0.1), pt(1, 0)};
+  ASSERT_TRUE(solvers::knee_index(front).has_value());
+  EXPECT_EQ(*solvers::knee_index(front), 1u);
+  // Units must not matter: scale F2 by 1e6 and shift F1.
+  for (auto& p : front) {
+    p.f2 *= 1e6;
+    p.f1 = 3.0 + 7.0 * p.f1;
+  }
+  EXPECT_EQ(*solvers::knee_index(front), 1u);
+  EXPECT_FALSE(solvers::knee_index({pt(0, 1), pt(1, 0)}).has_value());
+}
+
+TEST(SolversPareto, HypervolumeMatchesHandComputedArea) {
+  // Staircase (1,3), (2,2), (3,1) below (4,4): 3*1 + 2*1 + 1*1 = 6.
+  std::vector<ParetoPoint> pts = {pt(2, 2), pt(1, 3), pt(3, 1)};
+  EXPECT_DOUBLE_EQ(solvers::hypervolume(pts, 4, 4), 6.0);
+  pts.push_back(pt(3, 3));    // dominated: adds nothing
+  pts.push_back(pt(5, 0.5));  // outside the reference box: ignored
+  EXPECT_DOUBLE_EQ(solvers::hypervolume(pts, 4, 4), 6.0);
+  EXPECT_DOUBLE_EQ(solvers::hypervolume({}, 4, 4), 0.0);
+  EXPECT_THROW(solvers::hypervolume(pts, NAN, 4), Error);
+}
+
+TEST(SolversPareto, BadSweepOptionsThrow) {
+  auto p = LinearLeastSquaresPair::well_conditioned(3, 1);
+  solvers::ParetoOptions o;
+  o.points = 1;
+  EXPECT_THROW(solvers::sweep_lambda(p, Eigen::VectorXd::Zero(3), o), Error);
+  o.points = 5;
+  o.lambda_min = 0.0;
+  EXPECT_THROW(solvers::sweep_lambda(p, Eigen::VectorXd::Zero(3), o), Error);
+  o.lambda_min = 10.0;
+  o.lambda_max = 1.0;
+  EXPECT_THROW(solvers::sweep_lambda(p, Eigen::VectorXd::Zero(3), o), Error);
+  EXPECT_THROW(solvers::sweep_epsilon(p, Eigen::VectorXd::Zero(4), solvers::ParetoOptions{}), Error);
+}
