@@ -1,0 +1,60 @@
+#pragma once
+// Runs one odometry method over (a window of) one TUM sequence and keeps what every
+// experiment needs: the trajectory, per-pair records, phase times and run statistics.
+//
+//   RunRequest req;  req.sequence_dir = dir;  req.tracker.method = "bounded";
+//   req.first_frame = 10;  req.max_frames = 50;
+//   RunOutcome run = run_sequence(req);
+//   write_pair_log("pairs.csv", run);  std::cout << run_summary_line(run);
+//
+// The loop is odometry::track_sequence's (prepare_frame + estimate_motion, constant-velocity
+// prior, chaining T_w2 = T_w1 T_21^-1, first pose from ground truth) with a start frame added,
+// which TrackerOptions does not offer.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/tracker.h"
+#include "odometry/trajectory.h"
+#include "solvers/profiling.h"
+
+namespace bivo::experiments {
+
+struct RunRequest {
+  std::string sequence_dir;
+  odometry::TrackerOptions tracker;  // tracker.max_frames is ignored: use first_frame/max_frames
+  int first_frame = 0;               // index into the associated frames
+  int max_frames = -1;               // frames processed from first_frame (-1: to the end)
+  int progress = -1;                 // progress bar: -1 when stderr is a terminal, 0 never, 1 always
+  std::string label;                 // progress-bar label; empty: "<sequence> <method>"
+};
+
+struct RunOutcome {
+  std::string sequence;       // folder name
+  std::string method, backend;
+  odometry::Trajectory trajectory;               // one pose per processed rgb frame
+  std::optional<odometry::Trajectory> groundtruth;
+  std::vector<odometry::PairResult> pairs;
+  solvers::PhaseProfile profile;                 // summed over pairs (loading excluded)
+  int failures = 0;                              // pairs whose every level was skipped
+  double median_ms = 0, mean_ms = 0;             // time per pair, loading excluded
+  double load_seconds = 0;                       // PNG decoding, all frames
+};
+
+// Throws bivo::Error on bad options (odometry::validate), a window outside the sequence
+// (naming the frame count) or fewer than 2 frames to process.
+RunOutcome run_sequence(const RunRequest& request,
+                        const std::function<void(const odometry::PairResult&)>& on_pair = {});
+
+// "frames=N median_ms=X mean_ms=Y failures=K" (no newline).
+std::string run_summary_line(const RunOutcome& run);
+
+// Per-pair CSV: pair,t_reference,t_current,valid,iterations,ms,load_ms,lambda,epsilon,mu,
+// epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,note (errors empty without ground truth).
+void write_pair_log(const std::string& path, const RunOutcome& run);
+
+// The backend actually used: options.backend or the method's default.
+std::string effective_backend(const odometry::TrackerOptions& options);
+
+}  // namespace bivo::experiments
