@@ -208,8 +208,10 @@ void RgbdOdometryProblem::check_x(const Eigen::VectorXd& x) const {
   if (x.tail<4>().norm() < 1e-12) throw Error("RGB-D problem: quaternion of x has zero norm");
 }
 
-void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, bool cache_gradients) {
+void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x) {
   check_x(x);
+  if (cached_x_.size() == x.size() && cached_x_ == x) return;
+  cached_x_.resize(0);
   const WarpContext ctx(se3::from_ambient(x), *current_, options_.occlusion_margin);
   const std::size_t n = px_.size();
   TermWarp w;
@@ -220,21 +222,20 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, bool cache_gradient
     valid_d_[i] = (w.flags & kValidD) ? 1 : 0;
     r_i_[i] = (w.flags & kValidI) ? static_cast<float>(w.r_i) : 0.0f;
     r_d_[i] = (w.flags & kValidD) ? static_cast<float>(w.r_d) : 0.0f;
-    if (cache_gradients) {
-      qx_[i] = static_cast<float>(w.qx);
-      qy_[i] = static_cast<float>(w.qy);
-      qz_[i] = static_cast<float>(w.qz);
-      gi_u_[i] = static_cast<float>(w.gi_u);
-      gi_v_[i] = static_cast<float>(w.gi_v);
-      gd_u_[i] = static_cast<float>(w.gd_u);
-      gd_v_[i] = static_cast<float>(w.gd_v);
-    }
+    qx_[i] = static_cast<float>(w.qx);
+    qy_[i] = static_cast<float>(w.qy);
+    qz_[i] = static_cast<float>(w.qz);
+    gi_u_[i] = static_cast<float>(w.gi_u);
+    gi_v_[i] = static_cast<float>(w.gi_v);
+    gd_u_[i] = static_cast<float>(w.gd_u);
+    gd_v_[i] = static_cast<float>(w.gd_v);
   }
+  cached_x_ = x;
 }
 
 void RgbdOdometryProblem::ensure_weights(const Eigen::VectorXd& x) {
   if (have_weights_) return;
-  warp_all(x, false);
+  warp_all(x);
   const std::size_t n = px_.size();
   stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data());
   stats_.sigma_depth = compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data());
@@ -246,13 +247,16 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
   const std::size_t n = px_.size();
   {
     solvers::ScopedPhase phase(options.profile, "residuals");
-    warp_all(x, true);
+    warp_all(x);
   }
   {
     solvers::ScopedPhase phase(options.profile, "weights");
     if (options.update_weights || !have_weights_) {
-      stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data());
-      stats_.sigma_depth = compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data());
+      // Warm start: the scale changes little between the iterations of one problem.
+      stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data(),
+                                               stats_.sigma_intensity);
+      stats_.sigma_depth =
+          compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data(), stats_.sigma_depth);
       have_weights_ = true;
     }
   }
@@ -328,7 +332,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
 
 std::array<double, 2> RgbdOdometryProblem::evaluate_intensity_depth(const Eigen::VectorXd& x) {
   ensure_weights(x);
-  warp_all(x, false);
+  warp_all(x);
   double fi = 0.0, fd = 0.0;
   const std::size_t n = px_.size();
   for (std::size_t k = 0; k < n; ++k) {

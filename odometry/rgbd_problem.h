@@ -67,9 +67,9 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
 
  private:
   enum : unsigned char { kValidI = 1, kValidD = 2 };
-  // Warps every term with T_21 = x: fills r_i_, r_d_, flags_ and, with cache_gradients, the
-  // warped points and interpolation gradients used by the Jacobians.
-  void warp_all(const Eigen::VectorXd& x, bool cache_gradients);
+  // Warps every term with T_21 = x: fills r_i_, r_d_, flags_, the warped points and the
+  // interpolation gradients used by the Jacobians (a no-op when x is the cached x).
+  void warp_all(const Eigen::VectorXd& x);
   void ensure_weights(const Eigen::VectorXd& x);
   void check_x(const Eigen::VectorXd& x) const;
 
@@ -88,6 +88,9 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // Weights of the latest linearize().
   std::vector<float> w_i_, w_d_;
   bool have_weights_ = false;
+  // x of the latest warp_all(x): the outer loop evaluates x_new and then linearizes
+  // at the same x_new, which then reuses the warp instead of repeating it.
+  Eigen::VectorXd cached_x_;
   RgbdLinearizationStats stats_;
 };
 

@@ -1,0 +1,58 @@
+#pragma once
+// The odometry methods and how each chooses its scalarization parameter (paper Sec. III):
+//   single    F_I only                       weighted sum, lambda = 0
+//   depth     F_D only                       weighted sum with F_1 = F_D, lambda = 0
+//   fixed     F_I + lambda F_D               lambda given
+//   tykkala   F_I + lambda F_D               lambda = |median(I) / median(D)|^2 (Tykkala et al. 2011)
+//   weighted  F_I + lambda F_D               lambda = phi gamma^2 pi(D)^2 / pi(I)^2
+//                                            (eqs. `eq to calculate lambda`, `scale factor`,
+//                                            `image complexity metric`, `depth complexity metric`)
+//   bounded   min F_I s.t. F_D <= eps_D      eps_D = eps_max if pi(D) <= delta else eps_min
+//                                            (eq. `bounded objective form`)
+// Statistics are those of the reference frame at full resolution (image_statistics.h).
+//
+// eps_D is a bound on F_D = sum_i w_i r_D,i^2, which grows with the number of valid pixels
+// and with the weights. The parameters are therefore given per unit weight, in m^2:
+//   eps_D = eps_bar * sum_i w_D,i    (F_D <= eps_D  <=>  weighted mean r_D^2 <= eps_bar)
+// evaluated with the weights of each linearization, so one eps_bar serves every pyramid
+// level and image size.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/image_statistics.h"
+
+namespace bivo::odometry {
+
+enum class Method { kSingle, kDepth, kFixed, kTykkala, kWeighted, kBounded };
+
+// Unknown name -> bivo::Error listing the valid ones.
+Method parse_method(const std::string& name);
+const char* to_string(Method method);
+std::vector<std::string> method_names();
+bool is_bounded(Method method);
+// "gn" for the weighted-sum methods, "exact" for bounded.
+std::string default_backend(Method method);
+
+// Defaults chosen by the sweep documented in docs/odometry.md ("Choosing the defaults").
+struct PolicyParameters {
+  double lambda = 1000.0;       // method fixed [gray^2 / m^2]
+  double phi = 1.0;             // method weighted: the adjustable constant of eq. `eq to calculate lambda`
+  double delta = 0.02;          // method bounded: threshold on pi(D) [m per pixel]
+  double eps_min = 1e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
+  double eps_max = 1e-3;        // method bounded: per-unit-weight bound [m^2] on poor structure
+  std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
+};
+
+double tykkala_lambda(const FrameStatistics& s);
+// gamma = var(I) / var(D) (eq. `scale factor`); lambda = phi gamma^2 pi(D)^2 / pi(I)^2.
+double adaptive_lambda(const FrameStatistics& s, double phi);
+// eps_bar [m^2 per unit weight] of the bounded method.
+double bounded_epsilon_per_weight(const FrameStatistics& s, const PolicyParameters& p);
+
+// lambda of a weighted-sum method for a frame with statistics s (0 for single and depth).
+// Throws bivo::Error for bounded, or when the statistics make lambda non-finite (e.g. a
+// frame without valid depth), naming the values.
+double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p);
+
+}  // namespace bivo::odometry

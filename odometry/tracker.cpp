@@ -1,0 +1,291 @@
+#include "odometry/tracker.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "solvers/backend_registry.h"
+#include "solvers/error.h"
+#include "solvers/outer_loop.h"
+#include "solvers/scalarization.h"
+#include "solvers/se3.h"
+
+namespace bivo::odometry {
+namespace {
+
+namespace se3 = solvers::se3;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string backend_for(const TrackerOptions& options) {
+  return options.backend.empty() ? default_backend(parse_method(options.method)) : options.backend;
+}
+
+bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
+
+}  // namespace
+
+InitialGuess parse_initial_guess(const std::string& name) {
+  if (name == "identity") return InitialGuess::kIdentity;
+  if (name == "constant-velocity" || name == "cv") return InitialGuess::kConstantVelocity;
+  throw Error("unknown initial guess '" + name + "' (valid: identity, constant-velocity)");
+}
+
+const char* to_string(InitialGuess guess) {
+  return guess == InitialGuess::kIdentity ? "identity" : "constant-velocity";
+}
+
+void validate(const TrackerOptions& options) {
+  const Method method = parse_method(options.method);
+  const std::string backend = backend_for(options);
+  const solvers::BackendInfo& info = solvers::backend_info(backend);  // throws listing valid names
+  const bool ok = is_bounded(method) ? info.epsilon_constraint : info.weighted_sum;
+  if (!ok) {
+    std::string valid;
+    for (const auto& b : solvers::backend_infos()) {
+      if (is_bounded(method) ? b.epsilon_constraint : b.weighted_sum) valid += (valid.empty() ? "" : ", ") + b.name;
+    }
+    throw Error("backend '" + backend + "' cannot solve method '" + options.method + "' (" +
+                (is_bounded(method) ? "epsilon-constraint" : "weighted sum") + "; valid: " + valid + ")");
+  }
+  if (options.levels < 1 || options.levels > 8) {
+    throw Error("levels must be in 1..8, got " + std::to_string(options.levels));
+  }
+  if (options.finest_level < 0 || options.finest_level >= options.levels) {
+    throw Error("finest level must be in 0.." + std::to_string(options.levels - 1) + ", got " +
+                std::to_string(options.finest_level));
+  }
+  if (options.max_iterations < 1) {
+    throw Error("max iterations per level must be >= 1, got " + std::to_string(options.max_iterations));
+  }
+  if (options.policy.eps_min < 0 || options.policy.eps_max < 0 || !std::isfinite(options.policy.eps_max) ||
+      (options.policy.eps && !(*options.policy.eps >= 0.0 && std::isfinite(*options.policy.eps)))) {
+    throw Error("epsilon bounds must be finite and >= 0");
+  }
+  if (method == Method::kFixed && !(options.policy.lambda >= 0.0 && std::isfinite(options.policy.lambda))) {
+    throw Error("fixed lambda must be finite and >= 0, got " + std::to_string(options.policy.lambda));
+  }
+}
+
+PreparedFrame prepare_frame(const RgbdImage& image, const Intrinsics& K, int levels) {
+  PreparedFrame f;
+  f.pyramid = build_pyramid(image, K, levels);
+  f.statistics = frame_statistics(f.pyramid.levels[0]);
+  return f;
+}
+
+PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
+                           const Eigen::Isometry3d& initial, const TrackerOptions& options) {
+  const auto t0 = Clock::now();
+  const Method method = parse_method(options.method);
+  const std::string backend_name = backend_for(options);
+  const bool whole_problem = solvers::is_whole_problem_backend(backend_name);
+  std::unique_ptr<solvers::StepBackend> step_backend;
+  if (!whole_problem) step_backend = solvers::make_step_backend(backend_name);
+  const int levels = std::min<int>(options.levels, static_cast<int>(reference.pyramid.levels.size()));
+  if (levels != options.levels || current.pyramid.levels.size() != reference.pyramid.levels.size()) {
+    throw Error("estimate_motion: pyramids have " + std::to_string(reference.pyramid.levels.size()) + " and " +
+                std::to_string(current.pyramid.levels.size()) + " levels, options ask for " +
+                std::to_string(options.levels));
+  }
+
+  PairResult result;
+  result.t_reference = reference.pyramid.timestamp;
+  result.t_current = current.pyramid.timestamp;
+  double lambda = 0.0, eps_bar = 0.0;
+  if (is_bounded(method)) {
+    eps_bar = bounded_epsilon_per_weight(reference.statistics, options.policy);
+    result.epsilon_per_weight = eps_bar;
+  } else {
+    lambda = method_lambda(method, reference.statistics, options.policy);
+    result.lambda = lambda;
+  }
+  RgbdProblemOptions problem_options = options.problem;
+  problem_options.depth_first = method == Method::kDepth;
+
+  solvers::SolverOptions solver_options;
+  solver_options.max_iterations = options.max_iterations;
+  solver_options.step_tolerance = options.step_tolerance;
+  solver_options.relative_decrease_tolerance = options.relative_decrease_tolerance;
+  solver_options.profile = &result.profile;
+  solver_options.verbosity = options.verbosity;
+
+  Eigen::VectorXd x = se3::to_ambient(initial);
+  bool any_level_solved = false;
+  for (int level = levels - 1; level >= options.finest_level; --level) {
+    LevelResult lr;
+    lr.level = level;
+    RgbdOdometryProblem problem(reference.pyramid.levels[level], current.pyramid.levels[level], problem_options);
+    lr.terms = problem.num_terms();
+    if (lr.terms < options.min_valid_pixels) {
+      lr.skipped = true;
+      lr.termination = "skipped: " + std::to_string(lr.terms) + " reference pixels with valid depth";
+      result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
+      result.levels.push_back(lr);
+      continue;
+    }
+    std::unique_ptr<solvers::Scalarization> scalarization;
+    if (is_bounded(method)) {
+      // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
+      RgbdOdometryProblem* p = &problem;
+      scalarization = std::make_unique<solvers::EpsilonConstraint>(
+          [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; });
+    } else {
+      scalarization = std::make_unique<solvers::WeightedSum>(lambda);
+    }
+    const Eigen::VectorXd x_before = x;
+    const solvers::Summary summary = whole_problem
+                                         ? solvers::solve(problem, *scalarization, backend_name, x, solver_options)
+                                         : solvers::solve(problem, *scalarization, *step_backend, x, solver_options);
+    const RgbdLinearizationStats& stats = problem.last_stats();
+    lr.valid_intensity = stats.valid_intensity;
+    lr.valid_depth = stats.valid_depth;
+    lr.iterations = summary.iterations;
+    lr.termination = solvers::to_string(summary.termination);
+    result.iterations += summary.iterations;
+    if (!x.allFinite() || stats.valid_intensity < options.min_valid_pixels) {
+      x = x_before;  // the level's data could not support an estimate: keep the coarser one
+      lr.skipped = true;
+      lr.termination = "skipped: " + std::to_string(stats.valid_intensity) + " valid pixels after warping";
+      result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
+      result.levels.push_back(lr);
+      continue;
+    }
+    any_level_solved = true;
+    lr.f_i = problem_options.depth_first ? summary.final_f2 : summary.final_f1;
+    lr.f_d = problem_options.depth_first ? summary.final_f1 : summary.final_f2;
+    if (is_bounded(method)) {
+      lr.epsilon = summary.epsilon;
+      lr.mu = summary.multiplier;
+    } else {
+      lr.lambda = lambda;
+    }
+    result.f_i = lr.f_i;
+    result.f_d = lr.f_d;
+    result.epsilon = lr.epsilon;
+    result.mu = lr.mu;
+    result.levels.push_back(lr);
+  }
+  result.T_21 = se3::from_ambient(x);
+  if (!any_level_solved || !finite_pose(result.T_21)) {
+    result.valid = false;
+    result.T_21 = initial;
+    result.note += "no level could be solved: motion prior used";
+  }
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
+                           const std::function<void(const PairResult&)>& on_pair) {
+  validate(options);
+  SequenceOptions so;
+  so.max_association_dt = options.max_association_dt;
+  so.intrinsics = options.intrinsics;
+  so.max_frames = options.max_frames;
+  const TumSequence seq = open_tum_sequence(directory, so);
+
+  TrackResult out;
+  out.sequence = seq.name;
+  out.intrinsics = seq.intrinsics;
+
+  auto t_load = Clock::now();
+  const RgbdImage first = load_rgbd_image(seq.frames[0]);
+  const int width = first.width, height = first.height;
+  double load_seconds = seconds_since(t_load);
+  auto t_prep = Clock::now();
+  PreparedFrame reference = prepare_frame(first, seq.intrinsics, options.levels);
+  out.profile.add("pyramid", seconds_since(t_prep));
+
+  Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
+  if (options.start_at_groundtruth && seq.groundtruth) {
+    if (const auto T0 = interpolate_pose(*seq.groundtruth, seq.frames[0].rgb_time)) T_w_ref = *T0;
+  }
+  out.trajectory.push_back({seq.frames[0].rgb_time, T_w_ref});
+
+  Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
+  for (std::size_t k = 1; k < seq.frames.size(); ++k) {
+    t_load = Clock::now();
+    const RgbdImage image = load_rgbd_image(seq.frames[k], width, height);
+    load_seconds = seconds_since(t_load);
+
+    t_prep = Clock::now();
+    PreparedFrame current = prepare_frame(image, seq.intrinsics, options.levels);
+    const double prep_seconds = seconds_since(t_prep);
+
+    const Eigen::Isometry3d prior =
+        options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
+    PairResult pair = estimate_motion(reference, current, prior, options);
+    pair.index = static_cast<int>(k) - 1;
+    pair.profile.add("pyramid", prep_seconds);
+    pair.seconds += prep_seconds;
+    pair.load_seconds = load_seconds;
+    if (pair.valid) {
+      velocity = pair.T_21;
+    } else {
+      ++out.invalid_pairs;
+    }
+    const Eigen::Isometry3d T_w_cur = T_w_ref * pair.T_21.inverse();
+    pair.T_wc = T_w_cur;
+    if (seq.groundtruth) {
+      if (const auto gt = groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
+        pair.error = pose_error(pair.T_21, *gt);
+      }
+    }
+    out.trajectory.push_back({seq.frames[k].rgb_time, T_w_cur});
+    out.profile.merge(pair.profile);
+    if (on_pair) on_pair(pair);
+    out.pairs.push_back(std::move(pair));
+    T_w_ref = T_w_cur;
+    reference = std::move(current);
+  }
+  return out;
+}
+
+std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const TrackerOptions& options) const {
+  if (level < 0 || level >= static_cast<int>(reference.pyramid.levels.size())) {
+    throw Error("frame pair: level " + std::to_string(level) + " outside 0.." +
+                std::to_string(reference.pyramid.levels.size() - 1));
+  }
+  RgbdProblemOptions po = options.problem;
+  po.depth_first = parse_method(options.method) == Method::kDepth;
+  return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
+}
+
+double FramePair::lambda(const TrackerOptions& options) const {
+  return method_lambda(parse_method(options.method), reference.statistics, options.policy);
+}
+
+double FramePair::epsilon_per_weight(const TrackerOptions& options) const {
+  return bounded_epsilon_per_weight(reference.statistics, options.policy);
+}
+
+FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
+                          const TrackerOptions& options) {
+  SequenceOptions so;
+  so.max_association_dt = options.max_association_dt;
+  so.intrinsics = options.intrinsics;
+  const TumSequence seq = open_tum_sequence(directory, so);
+  const int n = static_cast<int>(seq.frames.size());
+  for (int i : {reference_index, current_index}) {
+    if (i < 0 || i >= n) {
+      throw Error("frame index " + std::to_string(i) + " outside 0.." + std::to_string(n - 1) + " of '" +
+                  directory + "'");
+    }
+  }
+  FramePair p;
+  p.sequence = seq.name;
+  p.reference_frame = seq.frames[reference_index];
+  p.current_frame = seq.frames[current_index];
+  const RgbdImage a = load_rgbd_image(p.reference_frame);
+  const RgbdImage b = load_rgbd_image(p.current_frame, a.width, a.height);
+  p.reference = prepare_frame(a, seq.intrinsics, options.levels);
+  p.current = prepare_frame(b, seq.intrinsics, options.levels);
+  if (seq.groundtruth) {
+    p.groundtruth_T21 = groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
+  }
+  return p;
+}
+
+}  // namespace bivo::odometry

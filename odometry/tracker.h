@@ -1,0 +1,142 @@
+#pragma once
+// Frame-to-frame RGB-D odometry: coarse-to-fine estimation of T_21 for each consecutive
+// pair, chained into camera-to-world poses.
+//
+// Usage:
+//   TrackerOptions opt;                 // method "weighted", backend "" = its default
+//   opt.method = "bounded";  opt.levels = 4;
+//   TrackResult r = track_sequence("/data/tum/rgbd_dataset_freiburg1_rpy", opt,
+//                                  [](const PairResult& p) { /* log p.iterations, p.lambda... */ });
+//   write_tum_trajectory("estimate.txt", r.trajectory);
+//
+//   // One pair, one level (per-pair Pareto fronts): the problem refers into `pair`.
+//   FramePair pair = load_frame_pair(seq_dir, i, i + 1, opt);
+//   auto problem = pair.problem(level, opt);       // RgbdOdometryProblem
+//   double lambda = pair.lambda(opt);               // what the method would use
+//   PoseError e = pose_error(T_21_estimate, *pair.groundtruth_T21);
+//
+// Frames are streamed: a run holds only the pair it works on. A pyramid level without
+// enough valid pixels is skipped (noted in LevelResult); when every level is skipped the
+// pair is marked invalid and the motion prior (identity or constant velocity) is used. A
+// pose is never NaN.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "odometry/camera_intrinsics.h"
+#include "odometry/image_statistics.h"
+#include "odometry/odometry_methods.h"
+#include "odometry/pose_error.h"
+#include "odometry/rgbd_problem.h"
+#include "odometry/rgbd_pyramid.h"
+#include "odometry/trajectory.h"
+#include "odometry/tum_dataset.h"
+#include "solvers/profiling.h"
+
+namespace bivo::odometry {
+
+enum class InitialGuess { kIdentity, kConstantVelocity };
+InitialGuess parse_initial_guess(const std::string& name);  // "identity" | "constant-velocity"
+const char* to_string(InitialGuess guess);
+
+struct TrackerOptions {
+  std::string method = "weighted";  // single, depth, fixed, tykkala, weighted, bounded
+  std::string backend;              // empty: default_backend(method) (gn / exact)
+  PolicyParameters policy;          // lambda (fixed), phi, delta, eps_min/eps_max/eps (bounded)
+  int levels = 4;                   // 640x480 .. 80x60
+  int finest_level = 0;             // stop refining at this level (0 = full resolution)
+  InitialGuess initial_guess = InitialGuess::kConstantVelocity;
+  int max_iterations = 20;          // per pyramid level
+  double step_tolerance = 1e-4;     // |delta| (m, rad) that ends a level
+  double relative_decrease_tolerance = 1e-3;  // relative merit change that ends a level
+  int min_valid_pixels = 200;       // fewer valid terms at a level: the level is skipped
+  RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion
+  double max_association_dt = 0.02; // seconds
+  std::optional<Intrinsics> intrinsics;  // override of the sequence-name preset
+  int max_frames = -1;              // -1: whole sequence
+  bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
+  int verbosity = 0;                // passed to the solver
+};
+
+// Checks names and numbers up front (unknown method/backend, backend that cannot solve the
+// method's scalarization, levels < 1, ...); throws bivo::Error listing valid choices.
+void validate(const TrackerOptions& options);
+
+struct LevelResult {
+  int level = 0;
+  int terms = 0;            // reference pixels with valid depth
+  int valid_intensity = 0, valid_depth = 0;  // at the final x of the level
+  int iterations = 0;
+  bool skipped = false;     // too few valid pixels: x left unchanged
+  double f_i = 0.0, f_d = 0.0;  // final objectives (weights of the last linearization)
+  double lambda = 0.0;      // weighted sum: lambda used
+  double epsilon = 0.0;     // bounded: epsilon bound on F_D at the last step
+  double mu = 0.0;          // bounded: multiplier of the last step (+inf: infeasible)
+  std::string termination;
+};
+
+struct PairResult {
+  int index = 0;                         // pair k: frames k (reference) and k + 1 (current)
+  double t_reference = 0.0, t_current = 0.0;
+  Eigen::Isometry3d T_21 = Eigen::Isometry3d::Identity();      // estimated motion
+  Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();      // pose of the current frame
+  bool valid = true;                     // false: every level skipped, T_21 = motion prior
+  std::string note;                      // why a level or the pair was degraded
+  int iterations = 0;                    // outer iterations over all levels
+  double lambda = 0.0, epsilon = 0.0, mu = 0.0;  // at the finest level solved
+  double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
+  double f_i = 0.0, f_d = 0.0;           // at the finest level solved
+  double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding)
+  double load_seconds = 0.0;             // PNG decoding of the current frame
+  solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
+  std::vector<LevelResult> levels;       // coarse to fine
+  std::optional<PoseError> error;        // against ground truth, when available
+};
+
+struct TrackResult {
+  std::string sequence;
+  Intrinsics intrinsics;
+  Trajectory trajectory;                 // one pose per frame, T_wc
+  std::vector<PairResult> pairs;
+  solvers::PhaseProfile profile;         // summed over pairs
+  int invalid_pairs = 0;
+};
+
+// Streams the sequence in `directory`, calling on_pair after each pair.
+TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
+                           const std::function<void(const PairResult&)>& on_pair = {});
+
+// One preprocessed frame: its pyramid and full-resolution statistics.
+struct PreparedFrame {
+  RgbdPyramid pyramid;
+  FrameStatistics statistics;
+};
+PreparedFrame prepare_frame(const RgbdImage& image, const Intrinsics& K, int levels);
+
+// Estimates T_21 from reference to current starting at `initial` (coarse to fine). The
+// result's timing fields cover the estimation only.
+PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
+                           const Eigen::Isometry3d& initial, const TrackerOptions& options);
+
+// Two frames of a sequence for per-pair studies (Pareto fronts, unit tests).
+struct FramePair {
+  std::string sequence;
+  AssociatedFrame reference_frame, current_frame;
+  PreparedFrame reference, current;
+  std::optional<Eigen::Isometry3d> groundtruth_T21;
+
+  // The odometry problem at one level with the options' problem settings (depth_first is
+  // set for method "depth"). The problem refers into this FramePair.
+  std::unique_ptr<RgbdOdometryProblem> problem(int level, const TrackerOptions& options) const;
+  // lambda of a weighted-sum method / eps_bar of bounded, as the tracker would choose them.
+  double lambda(const TrackerOptions& options) const;
+  double epsilon_per_weight(const TrackerOptions& options) const;
+};
+FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
+                          const TrackerOptions& options);
+
+}  // namespace bivo::odometry
