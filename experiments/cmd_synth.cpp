@@ -73,6 +73,7 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--angular-speed", o.handheld.mean_angular_speed_dps,
                   "generated motion: mean angular speed [deg/s]")
       ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "render threads (0 = one per hardware thread)")->capture_default_str();
   cmd->add_flag("--no-noise", args->no_noise, "no random sensor noise and no disparity quantization");
   cmd->callback([args] { run_synth(*args); });
 }

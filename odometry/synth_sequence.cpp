@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <exception>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -173,30 +175,51 @@ std::string render_sequence(const SynthOptions& o, const Trajectory& motion, con
 
     RenderSettings settings = o.render;
     settings.noise_seed = o.seed;
-    std::vector<RenderedFrame> stats;
-    std::ostringstream rgb_list, depth_list, assoc;
-    rgb_list << "# color images\n# synthetic: " << name << "\n# timestamp filename\n";
-    depth_list << "# depth maps\n# synthetic: " << name << "\n# timestamp filename\n";
-    for (int k = 0; k < o.frames; ++k) {
+    std::vector<RenderedFrame> stats(o.frames);
+    std::vector<std::string> stamps(o.frames);
+    const auto render_and_write = [&](int k) {
       RenderedFrame f = render_frame(scene, poses[k].T_wc, settings, static_cast<std::uint64_t>(k));
-      const std::string ts = stamp(poses[k].timestamp);
-      const std::string rgb_rel = "rgb/" + ts + ".png", depth_rel = "depth/" + ts + ".png";
+      stamps[k] = stamp(poses[k].timestamp);
       Png8 rgb;
       rgb.width = f.width;
       rgb.height = f.height;
       rgb.channels = 3;
       rgb.data = std::move(f.rgb);
-      write_png8((tmp_dir / rgb_rel).string(), rgb);
+      write_png8((tmp_dir / ("rgb/" + stamps[k] + ".png")).string(), rgb);
       Png16 depth;
       depth.width = f.width;
       depth.height = f.height;
       depth.data = std::move(f.depth);
-      write_png16((tmp_dir / depth_rel).string(), depth);
-      rgb_list << ts << ' ' << rgb_rel << '\n';
-      depth_list << ts << ' ' << depth_rel << '\n';
-      assoc << ts << ' ' << rgb_rel << ' ' << ts << ' ' << depth_rel << '\n';
+      write_png16((tmp_dir / ("depth/" + stamps[k] + ".png")).string(), depth);
       f.true_depth.clear();
-      stats.push_back(std::move(f));
+      stats[k] = std::move(f);
+    };
+    // Frames are independent: worker w takes frames w, w + n, w + 2n, ...
+    const int n_threads = std::clamp(o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()),
+                                     1, o.frames);
+    std::vector<std::exception_ptr> failures(n_threads);
+    std::vector<std::thread> workers;
+    for (int w = 0; w < n_threads; ++w) {
+      workers.emplace_back([&, w] {
+        try {
+          for (int k = w; k < o.frames; k += n_threads) render_and_write(k);
+        } catch (...) {
+          failures[w] = std::current_exception();
+        }
+      });
+    }
+    for (auto& t : workers) t.join();
+    for (const auto& e : failures) {
+      if (e) std::rethrow_exception(e);
+    }
+    std::ostringstream rgb_list, depth_list, assoc;
+    rgb_list << "# color images\n# synthetic: " << name << "\n# timestamp filename\n";
+    depth_list << "# depth maps\n# synthetic: " << name << "\n# timestamp filename\n";
+    for (int k = 0; k < o.frames; ++k) {
+      const std::string rgb_rel = "rgb/" + stamps[k] + ".png", depth_rel = "depth/" + stamps[k] + ".png";
+      rgb_list << stamps[k] << ' ' << rgb_rel << '\n';
+      depth_list << stamps[k] << ' ' << depth_rel << '\n';
+      assoc << stamps[k] << ' ' << rgb_rel << ' ' << stamps[k] << ' ' << depth_rel << '\n';
     }
     const auto write_text = [&](const char* file, const std::string& text) {
       write_file_atomically((tmp_dir / file).string(), [&](std::ostream& out) { out << text; });

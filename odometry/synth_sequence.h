@@ -40,6 +40,9 @@ struct SynthOptions {
   RenderSettings render;   // camera (freiburg3 defaults), sensor models, supersampling
   // Generated motion when none is given; its seed is overwritten by `seed`.
   HandheldMotionOptions handheld;
+  // Frames are rendered and written by this many threads (0 = one per hardware thread);
+  // the files do not depend on it (all randomness is per frame).
+  int threads = 0;
   // Folder name; empty = "rgbd_dataset_freiburg3_synth_<category>". Must contain
   // "freiburg3" so the intrinsics preset matches the rendering camera.
   std::string sequence_name;
