@@ -1,0 +1,65 @@
+#pragma once
+// Methods x sequences: every method run over every sequence, evaluated against ground truth
+// (TUM RPE over 1-s windows, ATE), and written out as the paper's tables 1/2 (RPE m/s, best
+// per column in bold) and table 3 (ms per pair), Markdown + CSV + JSON, plus the long-format
+// per-pair CSV the plots read. Used by `bivo table`, `bivo report` and `bivo demo`.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "experiments/sequence_runner.h"
+#include "odometry/metrics.h"
+
+namespace bivo::experiments {
+
+struct MethodSpec {
+  std::string method;
+  std::string backend;  // empty: the method's default
+};
+
+// "bounded" or "bounded:ipm-full" -> {method, backend}; validated by the tracker later.
+MethodSpec parse_method_spec(const std::string& text);
+std::string label(const MethodSpec& spec);  // "bounded" or "bounded (ipm-full)"
+
+struct MatrixOptions {
+  std::vector<std::string> sequences;       // TUM folders
+  std::vector<MethodSpec> methods;
+  odometry::TrackerOptions tracker;         // method/backend overwritten per cell
+  int first_frame = 0, max_frames = -1;
+  int progress = -1;
+  std::string trajectory_dir;               // when set: <dir>/<sequence>__<method>.txt
+};
+
+struct MatrixCell {
+  std::string sequence_dir, sequence;
+  MethodSpec spec;
+  std::string backend;  // effective
+  std::optional<RunOutcome> run;
+  std::optional<odometry::RpeResult> rpe;
+  std::optional<odometry::AteResult> ate;
+  std::string note;     // why rpe/ate/run is missing
+};
+
+struct MethodMatrix {
+  std::vector<std::string> sequences;  // folder names, column order
+  std::vector<MethodSpec> methods;     // row order
+  std::vector<MatrixCell> cells;       // row-major: methods x sequences
+  const MatrixCell& at(int method, int sequence) const { return cells[method * sequences.size() + sequence]; }
+};
+
+// Runs every cell. A run that throws bivo::Error (e.g. a method that cannot process a
+// sequence) is recorded in the cell's note and the matrix goes on; bad options (unknown
+// method or backend) are checked for every method before anything runs and throw.
+MethodMatrix run_matrix(const MatrixOptions& options);
+
+// Writes into `dir` (created when missing): rpe_trans.{md,csv}, rpe_rot.csv, ate.csv,
+// runtime.{md,csv} (ms per pair, median over pairs), runtime_bars.csv (one row per method,
+// median/mean over all pairs of all sequences), pairs.csv (sequence,method,pair,t,
+// trans_err_m,rot_err_deg,ms,lambda,epsilon_per_weight,iterations) and results.json. Every
+// file is written atomically. Returns the Markdown of the tables.
+std::string write_matrix(const MethodMatrix& matrix, const std::string& dir);
+
+// Markdown tables alone (RPE trans, RPE rot, ATE, runtime), as in the report.
+std::string matrix_markdown(const MethodMatrix& matrix);
+
+}  // namespace bivo::experiments
