@@ -22,9 +22,22 @@ struct ReducedModel {
   double value(const Eigen::VectorXd& d) const { return a + 2.0 * b.dot(d) + d.dot(H * d); }
 };
 
+// LDL^T pivots all well above zero (relative to the largest) and a good condition estimate;
+// anything doubtful goes through the eigendecomposition paths, which handle rank exactly.
+bool safely_positive_definite(const Eigen::LDLT<Eigen::MatrixXd>& ldlt, double tol) {
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+  const Eigen::VectorXd D = ldlt.vectorD();
+  return D.minCoeff() > 1e3 * tol * D.cwiseAbs().maxCoeff() && ldlt.rcond() > 10.0 * tol;
+}
+
 // argmin mA, ties broken by mB (the limit of argmin mA + t mB as t -> 0+). Requires
 // HA + HB positive definite, which the reduction below guarantees.
 Eigen::VectorXd lexicographic_minimizer(const ReducedModel& A, const ReducedModel& B, double tol) {
+  {
+    // Common case: HA safely nonsingular, its minimizer is unique.
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.H);
+    if (safely_positive_definite(ldlt, tol)) return ldlt.solve(-A.b);
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A.H);
   const Eigen::VectorXd& s = eig.eigenvalues();
   const Eigen::MatrixXd& V = eig.eigenvectors();
@@ -76,7 +89,10 @@ ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel&
   if (t1 > 0.0) S += H1 / t1;
   if (t2 > 0.0) S += H2 / t2;
   Eigen::MatrixXd Q;  // orthonormal basis of range(S); identity when S is nonsingular
-  {
+  const Eigen::LDLT<Eigen::MatrixXd> s_ldlt(S);
+  if (safely_positive_definite(s_ldlt, options.rank_tolerance)) {
+    Q = Eigen::MatrixXd::Identity(n, n);  // fast path: no common null space
+  } else {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
     const double smax = eig.eigenvalues().cwiseAbs().maxCoeff();
     std::vector<Eigen::Index> keep;

@@ -12,7 +12,8 @@ SymmetricSolve solve_symmetric_psd(const Eigen::MatrixXd& A, const Eigen::Vector
   // LDL^T is the fast path; its pivots bound the conditioning well enough to decide when the
   // minimum-norm fallback is needed (rcond is the LDL^T-based reciprocal condition estimate).
   Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
-  if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > rank_tolerance * 10.0) {
+  if (ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.rcond() > rank_tolerance * 10.0 &&
+      ldlt.vectorD().minCoeff() > 1e3 * rank_tolerance * ldlt.vectorD().cwiseAbs().maxCoeff()) {
     out.x = ldlt.solve(rhs);
     out.rank = static_cast<int>(n);
     if (out.x.allFinite()) return out;
