@@ -207,11 +207,20 @@ TEST(ConicIpm, PrimalInfeasibleIsCertified) {
     const Eigen::VectorXd b = A * x0;
     h -= zb * (h.dot(zb) + b.dot(yb) + 1.0) / zb.squaredNorm();
     p.A = A.sparseView();
-    p.G = G.sparseView(1.0, 0.0);
+    p.G = G.sparseView(1.0, 1e-12);  // rows cancelled to ~1e-17 become exact zeros
     p.b = b;
     p.h = h;
-    p.c = Eigen::VectorXd::NullaryExpr(n, [&]() { return g(rng); });
+    // Dual strictly feasible (c = -A^T y1 - G^T z1, z1 in int K), so the primal certificate
+    // is the only possible answer.
+    const Eigen::VectorXd z1 = random_interior(K, rng);
+    p.c = -(G.transpose() * z1);
+    if (np) p.c -= A.transpose() * Eigen::VectorXd::NullaryExpr(np, [&]() { return g(rng); });
     const IpmResult r = solve_conic(p);
+    if (r.status != IpmStatus::kPrimalInfeasible) {
+      IpmSettings st;
+      st.log = &std::cout;
+      solve_conic(p, st);
+    }
     ASSERT_EQ(r.status, IpmStatus::kPrimalInfeasible) << "trial " << trial << ": " << to_string(r.status);
     // The returned certificate is checked from its definition.
     Eigen::VectorXd aty = p.G.transpose() * r.z;
@@ -310,9 +319,14 @@ TEST(ConicIpm, ProjectionOntoSecondOrderConeIsClosedForm) {
     p.cones.soc = {m + 1, m};
     p.A.resize(0, m + 1);
     p.b.resize(0);
-    const IpmResult r = solve_conic(p);
+    // The distance is a norm: an objective error e moves x by ~sqrt(2 e dist) along the
+    // boundary, so ask for 1e-12 to check x to 1e-5.
+    IpmSettings st;
+    st.feastol = st.abstol = st.reltol = 1e-12;
+    const IpmResult r = solve_conic(p, st);
     ASSERT_EQ(r.status, IpmStatus::kOptimal);
-    EXPECT_LT((r.x.tail(m) - proj).norm(), 1e-6 * (1 + proj.norm())) << "trial " << trial;
+    EXPECT_LT((r.x.tail(m) - proj).norm(), 1e-5 * (1 + proj.norm()))
+        << "trial " << trial << ": " << r.x.tail(m).transpose() << " vs " << proj.transpose();
     EXPECT_NEAR(r.primal_objective, (proj - pt).norm(), 1e-7 * (1 + pt.norm()));
   }
 }

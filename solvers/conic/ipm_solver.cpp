@@ -33,6 +33,16 @@ struct Direction {
   double dtau = 0.0, dkappa = 0.0;
 };
 
+// Which verdict the residuals support at the given tolerances; kMaxIterations = none yet.
+IpmStatus classify(const Residuals& r, double feastol, double abstol, double reltol) {
+  if (r.primal_residual < feastol && r.dual_residual < feastol && (r.gap < abstol || r.relative_gap < reltol)) {
+    return IpmStatus::kOptimal;
+  }
+  if (r.hz_by < 0.0 && r.primal_infeasibility < feastol) return IpmStatus::kPrimalInfeasible;
+  if (r.cx < 0.0 && r.dual_infeasibility < feastol) return IpmStatus::kDualInfeasible;
+  return IpmStatus::kMaxIterations;
+}
+
 class Solver {
  public:
   Solver(const ConicProblem& original, const IpmSettings& settings)
@@ -60,10 +70,22 @@ class Solver {
   bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d);
   double max_step(const Direction& d) const;
   IpmResult finish(IpmStatus status, const Variables& v, int iterations);
-  IpmResult trouble(const char* where, int iterations) {
-    if (st_.log) *st_.log << "numerical trouble in " << where << "\n";
-    return finish(IpmStatus::kNumericalTrouble, v_, iterations);
+  // Numerical trouble or the iteration limit: like ECOS, accept the best iterate at the
+  // reduced-accuracy tolerances if it meets them (flagged), else report the failure.
+  IpmResult stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
+    if (st_.log) *st_.log << "stopped: " << where << "\n";
+    v_ = best;
+    compute_residuals(sp_, op_, eq_, v_, r_);
+    const IpmStatus verdict = classify(r_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate);
+    IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
+    res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
+    return res;
   }
+  IpmResult trouble(const char* where, int iterations) {
+    return stop_early(IpmStatus::kNumericalTrouble, where, last_good_, iterations);
+  }
+  Variables last_good_;
+  double best_score_ = std::numeric_limits<double>::infinity();
   void log_header() const;
   void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const;
 
@@ -190,7 +212,7 @@ IpmResult Solver::run() {
     compute_residuals(sp_, op_, eq_, v_, r_);
     return finish(IpmStatus::kNumericalTrouble, v_, 0);
   }
-  Variables last_good = v_;
+  last_good_ = v_;
   double step = 0.0, sigma = 0.0;
   const Eigen::VectorXd e = cones_->identity();
   for (int k = 0;; ++k) {
@@ -198,18 +220,18 @@ IpmResult Solver::run() {
     const double mu = (v_.s.dot(v_.z) + v_.tau * v_.kappa) / (cones_->degree() + 1);
     log_iteration(k, r_, mu, step, sigma);
     if (!std::isfinite(r_.primal_residual) || !std::isfinite(r_.dual_residual) || !std::isfinite(mu)) {
-      v_ = last_good;
-      compute_residuals(sp_, op_, eq_, v_, r_);
-      return finish(IpmStatus::kNumericalTrouble, v_, k);
+      return trouble("non-finite residuals", k);
     }
-    if (r_.primal_residual < st_.feastol && r_.dual_residual < st_.feastol &&
-        (r_.gap < st_.abstol || r_.relative_gap < st_.reltol)) {
-      return finish(IpmStatus::kOptimal, v_, k);
+    const IpmStatus verdict = classify(r_, st_.feastol, st_.abstol, st_.reltol);
+    if (verdict != IpmStatus::kMaxIterations) return finish(verdict, v_, k);
+    // Keep the iterate closest to any verdict, for the reduced-accuracy exits.
+    const double score = std::min({std::max({r_.primal_residual, r_.dual_residual, std::min(r_.gap, r_.relative_gap)}),
+                                   r_.primal_infeasibility, r_.dual_infeasibility});
+    if (score <= best_score_) {
+      best_score_ = score;
+      last_good_ = v_;
     }
-    if (r_.hz_by < 0.0 && r_.primal_infeasibility < st_.feastol) return finish(IpmStatus::kPrimalInfeasible, v_, k);
-    if (r_.cx < 0.0 && r_.dual_infeasibility < st_.feastol) return finish(IpmStatus::kDualInfeasible, v_, k);
-    if (k >= st_.max_iterations) return finish(IpmStatus::kMaxIterations, v_, k);
-    last_good = v_;
+    if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
 
     if (!cones_->compute_scaling(v_.s, v_.z, w_, lambda_)) return trouble("scaling", k);
     if (!kkt_->factor(w_)) return trouble("factor", k);

@@ -25,6 +25,11 @@ struct IpmSettings {
   double feastol = 1e-8;   // primal/dual residual, relative
   double abstol = 1e-8;    // absolute duality gap s^T z
   double reltol = 1e-8;    // relative duality gap
+  // Reduced-accuracy tolerances (ECOS's "inaccurate" exits): used only when the iteration
+  // stalls (numerical trouble, iteration limit); the result then has reduced_accuracy set.
+  double feastol_inaccurate = 1e-4;
+  double abstol_inaccurate = 5e-5;
+  double reltol_inaccurate = 5e-5;
   int max_iterations = 100;
   int equilibration_passes = 12;  // 0 = off
   double step_fraction = 0.99;    // of the distance to the boundary
@@ -40,6 +45,7 @@ struct IpmResult {
   Eigen::VectorXd x, y, z, s;
   double primal_objective = 0.0, dual_objective = 0.0;
   double primal_residual = 0.0, dual_residual = 0.0, gap = 0.0, relative_gap = 0.0;
+  bool reduced_accuracy = false;  // met only the *_inaccurate tolerances
   int iterations = 0;
   double seconds = 0.0;
   long kkt_factor_nonzeros = 0;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 extern "C" {
 #include <camd.h>
@@ -99,6 +97,10 @@ KktSystem::KktSystem(const SparseMatrix& A, const SparseMatrix& G, const ConePro
     throw Error("conic KKT: CAMD ordering failed (status " + std::to_string(status) + ", size " +
                 std::to_string(N_) + ")");
   }
+  for (int k = 0; k < N_; ++k) Pinv_[P_[k]] = k;
+  sign_.assign(N_, -1.0);
+  for (int j = 0; j < n_; ++j) sign_[j] = 1.0;
+  for (int k = 0; k < nsoc; ++k) sign_[n_ + p_ + m_ + 2 * k + 1] = 1.0;
   Lp_.assign(N_ + 1, 0);
   Parent_.assign(N_, 0);
   Lnz_.assign(N_, 0);
@@ -137,29 +139,61 @@ bool KktSystem::factor(const NtScaling& w) {
       Kx_[qcol_[k] + i] = ui;
     }
   }
-  // LDL (SuiteSparse) has no dynamic regularization: when a pivot vanishes or takes the
-  // wrong sign for a quasi-definite matrix (x and q positive; y, z and p negative) because
-  // W^{-2} has grown so large that delta is lost in rounding, refactor with a larger delta.
-  // Iterative refinement against the unregularized matrix removes the perturbation again.
-  for (double delta = delta_; delta <= 1e-2; delta *= 1e3) {
-    for (int j = 0; j < n_; ++j) Kx_[Kp_[j]] = delta;
-    for (int i = 0; i < p_; ++i) Kx_[Kp_[n_ + i + 1] - 1] = -delta;
-    const int done = ldl_numeric(N_, Kp_.data(), Ki_.data(), Kx_.data(), Lp_.data(), Parent_.data(),
-                                 Lnz_.data(), Li_.data(), Lx_.data(), D_.data(), Y_.data(),
-                                 Pattern_.data(), Flag_.data(), P_.data(), Pinv_.data());
-    if (done != N_) continue;
-    bool ok = true;
-    for (int k = 0; k < N_ && ok; ++k) {
-      const int var = P_[k];
-      const bool positive = var < n_ || (var >= n_ + p_ + m_ && (var - n_ - p_ - m_) % 2 == 1);
-      ok = std::isfinite(D_[k]) && (positive ? D_[k] > 0.0 : D_[k] < 0.0);
+  for (int j = 0; j < n_; ++j) Kx_[Kp_[j]] = delta_;
+  for (int i = 0; i < p_; ++i) Kx_[Kp_[n_ + i + 1] - 1] = -delta_;
+  return numeric_with_dynamic_regularization();
+}
+
+// Up-looking LDL^T (row k of L from a sparse triangular solve along the elimination tree
+// computed by ldl_symbolic), the algorithm of SuiteSparse LDL plus the one thing it lacks:
+// dynamic regularization as in ECOS. A quasi-definite matrix has known pivot signs (x and q
+// positive; y, z and p negative); a pivot that rounding has driven to zero or to the wrong
+// sign (W^{-2} ~ 1e16 swamps delta in the x block near the end) is replaced by
+// sign * dynamic_regularization, and iterative refinement against the true matrix repairs
+// the perturbation.
+bool KktSystem::numeric_with_dynamic_regularization() {
+  const int n = N_;
+  dynamic_pivots_ = 0;
+  for (int k = 0; k < n; ++k) {
+    Y_[k] = 0.0;
+    int top = n;
+    Flag_[k] = k;
+    Lnz_[k] = 0;
+    const int kk = P_[k];
+    for (int q = Kp_[kk]; q < Kp_[kk + 1]; ++q) {
+      int i = Pinv_[Ki_[q]];
+      if (i > k) continue;  // upper triangle of the permuted matrix only
+      Y_[i] += Kx_[q];
+      int len = 0;
+      for (; Flag_[i] != k; i = Parent_[i]) {
+        Pattern_[len++] = i;
+        Flag_[i] = k;
+      }
+      while (len > 0) Pattern_[--top] = Pattern_[--len];
     }
-    if (ok) {
-      last_delta_ = delta;
-      return true;
+    double dk = Y_[k];
+    Y_[k] = 0.0;
+    for (; top < n; ++top) {
+      const int i = Pattern_[top];
+      const double yi = Y_[i];
+      Y_[i] = 0.0;
+      const int end = Lp_[i] + Lnz_[i];
+      for (int q = Lp_[i]; q < end; ++q) Y_[Li_[q]] -= Lx_[q] * yi;
+      const double lki = yi / D_[i];
+      dk -= lki * yi;
+      Li_[end] = k;
+      Lx_[end] = lki;
+      ++Lnz_[i];
     }
+    const double sign = sign_[kk];
+    if (!(sign * dk > settings_.dynamic_threshold)) {
+      if (!std::isfinite(dk)) return false;
+      dk = sign * settings_.dynamic_regularization;
+      ++dynamic_pivots_;
+    }
+    D_[k] = dk;
   }
-  return false;
+  return true;
 }
 
 void KktSystem::ldl_solve(Eigen::VectorXd& x) {
@@ -204,7 +238,6 @@ bool KktSystem::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol) {
     multiply_true(candidate, kv);
     Eigen::VectorXd new_residual = rhs - kv;
     const double norm = new_residual.lpNorm<Eigen::Infinity>();
-    if (std::getenv("BIVO_KKT_DEBUG")) std::fprintf(stderr, "  refine %d: %.3e (rhs %.3e)\n", step, norm, rhs.lpNorm<Eigen::Infinity>());
     if (!std::isfinite(norm)) return step > 0;
     if (norm >= last_norm) break;  // refinement stalled: keep the better iterate
     sol = std::move(candidate);

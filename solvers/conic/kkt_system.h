@@ -7,7 +7,8 @@
 // rows/columns per cone (p: -1 on the diagonal, couples beta v; q: +1, couples beta u),
 // so the matrix keeps O(nnz(A) + nnz(G) + m) entries and is quasi-definite once the
 // static regularization (+delta on x, -delta on y and z) is added. Factored by LDL^T
-// (SuiteSparse LDL) in a constrained AMD (CAMD) ordering computed once; solutions are polished by
+// in a constrained AMD (CAMD) ordering computed once, elimination tree from SuiteSparse
+// ldl_symbolic, numeric LDL with ECOS-style dynamic regularization; solutions are polished by
 // iterative refinement against the unregularized, unexpanded matrix.
 #include <vector>
 
@@ -21,7 +22,9 @@ namespace bivo::solvers::conic {
 struct KktSettings {
   double static_regularization = 1e-8;  // relative to the largest |entry| of A, G (>= 1)
   int max_refinement_steps = 5;
-  double refinement_tolerance = 1e-13;  // stop when ||residual||_inf <= tol (1 + ||rhs||_inf)
+  double refinement_tolerance = 1e-13;
+  double dynamic_threshold = 1e-13;      // |pivot| below this (or wrong sign) is replaced ...
+  double dynamic_regularization = 7e-8;  // ... by sign * this  // stop when ||residual||_inf <= tol (1 + ||rhs||_inf)
 };
 
 class KktSystem {
@@ -38,11 +41,12 @@ class KktSystem {
   int expanded_size() const { return N_; }
   long factor_nonzeros() const { return static_cast<long>(Lp_.empty() ? 0 : Lp_.back()); }
   int last_refinement_steps() const { return last_refine_; }
-  double last_regularization() const { return last_delta_; }
+  int last_dynamic_pivots() const { return dynamic_pivots_; }
 
  private:
   void multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;  // reduced K v
   void ldl_solve(Eigen::VectorXd& x_expanded);
+  bool numeric_with_dynamic_regularization();
 
   const SparseMatrix& A_;
   const SparseMatrix& G_;
@@ -63,7 +67,8 @@ class KktSystem {
   std::vector<double> Lx_, D_, Y_;
   Eigen::VectorXd work_, work2_;
   int last_refine_ = 0;
-  double last_delta_ = 0.0;
+  int dynamic_pivots_ = 0;
+  std::vector<double> sign_;  // expected pivot sign per unpermuted variable
 };
 
 }  // namespace bivo::solvers::conic
