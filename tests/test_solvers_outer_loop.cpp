@@ -135,7 +135,7 @@ class WrongSizeModels final : public solvers::BiObjectiveProblem {
 
 TEST(SolversOuterLoop, EveryWeightedSumBackendReachesTheClosedFormOnLinearPairs) {
   std::mt19937_64 rng(99);
-  for (int draw = 0; draw < 20; ++draw) {
+  for (int draw = 0; draw < 100; ++draw) {
     auto p = draw % 2 ? LinearLeastSquaresPair::ill_conditioned(6, rng(), 1e3) : LinearLeastSquaresPair::well_conditioned(6, rng());
     const double lambda = std::pow(10.0, std::uniform_real_distribution<double>(-2, 2)(rng));
     const Eigen::VectorXd want = p.weighted_sum_optimum(lambda);
