@@ -38,8 +38,12 @@ for m in d.get("methods", []):
 if d.get("knee"):
     ax.scatter([d["knee"]["f_i"]], [d["knee"]["f_d"]], marker="D", s=70, facecolors="none", edgecolors="r",
                linewidths=1.5, zorder=6, label="knee")
-ax.set_xscale("log")
-ax.set_yscale("log")
+# Log axes only where an objective spans more than a decade over the plotted points.
+all_pts = d["lambda_sweep"] + d["epsilon_sweep"] + d.get("methods", [])
+for key, setter in (("f_i", ax.set_xscale), ("f_d", ax.set_yscale)):
+    vals = [p[key] for p in all_pts if p[key] > 0]
+    if vals and max(vals) > 10 * min(vals):
+        setter("log")
 ax.set_xlabel("F_I (intensity objective)")
 ax.set_ylabel("F_D (depth objective)")
 ax.set_title(d.get("title", ""), fontsize=9)

@@ -1,0 +1,160 @@
+#include "experiments/pareto_study.h"
+
+#include <chrono>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "odometry/pose_error.h"
+#include "solvers/error.h"
+#include "solvers/se3.h"
+
+namespace bivo::experiments {
+namespace {
+
+// F_I, F_D at T with weights estimated at T (one IRLS weight update, as linearize does).
+StudyPoint evaluate(odometry::RgbdOdometryProblem& problem, const Eigen::Isometry3d& T,
+                    const std::optional<Eigen::Isometry3d>& truth) {
+  const Eigen::VectorXd x = solvers::se3::to_ambient(T);
+  solvers::LinearizeOptions lo;
+  problem.linearize(x, lo);
+  StudyPoint p;
+  p.f_i = problem.last_stats().f_intensity;
+  p.f_d = problem.last_stats().f_depth;
+  p.T_21 = T;
+  if (truth) p.error = odometry::pose_error(T, *truth);
+  return p;
+}
+
+std::vector<StudyPoint> front_points(const solvers::ParetoFront& front, odometry::RgbdOdometryProblem& problem,
+                                     const std::optional<Eigen::Isometry3d>& truth) {
+  std::vector<solvers::ParetoPoint> evaluated;
+  std::vector<StudyPoint> pts;
+  for (const auto& p : front.all) {
+    if (!p.x.allFinite()) continue;
+    StudyPoint s = evaluate(problem, solvers::se3::from_ambient(p.x), truth);
+    s.parameter = p.parameter;
+    pts.push_back(s);
+  }
+  // Keep what is still non-dominated after the common re-evaluation.
+  std::vector<StudyPoint> out;
+  for (const auto& a : pts) {
+    bool dominated = false;
+    for (const auto& b : pts) {
+      if (b.f_i <= a.f_i && b.f_d <= a.f_d && (b.f_i < a.f_i || b.f_d < a.f_d)) dominated = true;
+    }
+    if (!dominated) out.push_back(a);
+  }
+  std::sort(out.begin(), out.end(), [](const StudyPoint& a, const StudyPoint& b) { return a.f_i < b.f_i; });
+  return out;
+}
+
+}  // namespace
+
+ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  odometry::TrackerOptions base = o.tracker;
+  base.method = "single";
+  base.backend = "";
+  base.finest_level = o.level;
+  odometry::validate(base);
+  for (const auto& m : o.methods) {
+    odometry::TrackerOptions t = base;
+    t.method = m;
+    odometry::validate(t);
+  }
+  const odometry::FramePair pair = odometry::load_frame_pair(o.sequence_dir, o.pair, o.pair + 1, base);
+  ParetoStudy study;
+  study.sequence = pair.sequence;
+  study.pair = o.pair;
+  study.level = o.level;
+  study.t_reference = pair.reference_frame.rgb_time;
+  study.t_current = pair.current_frame.rgb_time;
+
+  // Start both sweeps from the single-objective coarse-to-fine estimate down to this level,
+  // the same basin the methods start in.
+  const odometry::PairResult start =
+      odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), base);
+  const Eigen::VectorXd x0 = solvers::se3::to_ambient(start.T_21);
+  auto problem = pair.problem(o.level, base);  // F_1 = F_I, F_2 = F_D
+
+  solvers::ParetoOptions po;
+  po.points = o.points;
+  po.lambda_min = o.lambda_min;
+  po.lambda_max = o.lambda_max;
+  po.solver.max_iterations = base.max_iterations;
+  po.solver.step_tolerance = base.step_tolerance;
+  po.solver.relative_decrease_tolerance = base.relative_decrease_tolerance;
+  const solvers::ParetoFront lf = solvers::sweep_lambda(*problem, x0, po);
+  const solvers::ParetoFront ef = solvers::sweep_epsilon(*problem, x0, po);
+  study.lambda_front = front_points(lf, *problem, pair.groundtruth_T21);
+  study.epsilon_front = front_points(ef, *problem, pair.groundtruth_T21);
+
+  for (const auto& m : o.methods) {
+    odometry::TrackerOptions t = base;
+    t.method = m;
+    const odometry::PairResult r =
+        odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), t);
+    StudyPoint p = evaluate(*problem, r.T_21, pair.groundtruth_T21);
+    p.method = m;
+    p.parameter = m == "bounded" ? r.epsilon_per_weight : r.lambda;
+    study.methods.push_back(p);
+  }
+
+  std::vector<solvers::ParetoPoint> both;
+  std::vector<const StudyPoint*> refs;
+  for (const auto* f : {&study.lambda_front, &study.epsilon_front}) {
+    for (const auto& p : *f) {
+      solvers::ParetoPoint q;
+      q.f1 = p.f_i;
+      q.f2 = p.f_d;
+      q.x = solvers::se3::to_ambient(p.T_21);
+      both.push_back(q);
+      refs.push_back(&p);
+    }
+  }
+  const auto front = solvers::nondominated(both);
+  if (const auto k = solvers::knee_index(front)) {
+    for (size_t i = 0; i < both.size(); ++i) {
+      if (both[i].f1 == front[*k].f1 && both[i].f2 == front[*k].f2) {
+        study.knee = *refs[i];
+        break;
+      }
+    }
+  }
+  study.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return study;
+}
+
+std::string pareto_json(const ParetoStudy& s) {
+  auto point = [](const StudyPoint& p, const char* parameter) {
+    nlohmann::json j = {{"f_i", p.f_i}, {"f_d", p.f_d}};
+    if (parameter) j[parameter] = p.parameter;
+    if (!p.method.empty()) j["method"] = p.method;
+    if (p.error) {
+      j["trans_err_m"] = p.error->translation_m;
+      j["rot_err_deg"] = p.error->rotation_deg;
+    }
+    return j;
+  };
+  nlohmann::json j;
+  std::ostringstream title;
+  title << s.sequence << " pair " << s.pair << " (level " << s.level << ")";
+  j["title"] = title.str();
+  j["sequence"] = s.sequence;
+  j["pair"] = s.pair;
+  j["level"] = s.level;
+  j["t_reference"] = s.t_reference;
+  j["t_current"] = s.t_current;
+  j["lambda_sweep"] = nlohmann::json::array();
+  for (const auto& p : s.lambda_front) j["lambda_sweep"].push_back(point(p, "lambda"));
+  j["epsilon_sweep"] = nlohmann::json::array();
+  for (const auto& p : s.epsilon_front) j["epsilon_sweep"].push_back(point(p, "epsilon"));
+  j["methods"] = nlohmann::json::array();
+  for (const auto& p : s.methods) j["methods"].push_back(point(p, "parameter"));
+  j["knee"] = s.knee ? point(*s.knee, nullptr) : nlohmann::json(nullptr);
+  j["seconds"] = s.seconds;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace bivo::experiments
