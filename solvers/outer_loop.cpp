@@ -122,8 +122,11 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     }
     rec.step_norm = step.delta.norm();
     const Eigen::VectorXd x_new = manifold.retract(x, step.delta);
-    const std::array<double, 2> f_new = x_new.allFinite() ? problem.evaluate(x_new)
-                                                          : std::array<double, 2>{NAN, NAN};
+    std::array<double, 2> f_new{NAN, NAN};
+    if (x_new.allFinite()) {
+      ScopedPhase phase(&summary.phases, "residuals");  // evaluate() is a residual pass
+      f_new = problem.evaluate(x_new);
+    }
     if (!finite2(f_new)) {
       summary.termination = TerminationReason::kNumericalFailure;
       summary.message = "objective is NaN/Inf after the step; x kept at the last good value";
