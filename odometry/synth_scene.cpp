@@ -138,10 +138,11 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
     }
     s.panels.push_back(rectangle("floor", {-kHalfLength, -6.0, 0.0}, along, {0, 7.5, 0}, 1));
     s.panels.push_back(rectangle("wall", {-kHalfLength, 1.5, 0.0}, along, {0, 0, 3.0}, 2));
-    // Looking 15 degrees down at the zig-zag, mid-way between two folds (on its surface).
+    // Looking 15 degrees down and 25 degrees sideways (so the folds recede in perspective)
+    // at the zig-zag, mid-way between two folds (on its surface).
     s.target = Eigen::Vector3d(0.0, 0.15, 0.45);
-    const double pitch = 15.0 * M_PI / 180.0;
-    const Eigen::Vector3d dir(0.0, std::cos(pitch), -std::sin(pitch));
+    const double pitch = 15.0 * M_PI / 180.0, yaw = 25.0 * M_PI / 180.0;
+    const Eigen::Vector3d dir(std::sin(yaw) * std::cos(pitch), std::cos(yaw) * std::cos(pitch), -std::sin(pitch));
     s.nominal_T_wc = look_at(s.target - d * dir, s.target);
   } else {
     s.panels.push_back(rectangle("plane", {-kHalfLength, -4.0, 0.0}, along, {0, 16.0, 0}, 0));

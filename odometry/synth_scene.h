@@ -10,7 +10,8 @@
 //  * texture: the zig-zag panels (or the plane) are covered with colourful posters;
 //  * notexture: they are covered with near-uniform white foil (1% low-frequency albedo
 //    variation); floor and wall are near-uniform in every category;
-//  * near / far: the camera looks at the scene from 1 m / 2 m along its optical axis.
+//  * near / far: the camera looks at the scene from 1 m / 2 m along its optical axis
+//    (structure: 15 degrees down, 25 degrees sideways; nostructure: 50 degrees down).
 // World frame: z up, the zig-zag runs along x, the nominal camera looks along +y.
 #include <cstdint>
 #include <string>
