@@ -102,12 +102,14 @@ class WeightedSumCost final : public ceres::CostFunction {
 
 class RecordingCallback final : public ceres::IterationCallback {
  public:
-  RecordingCallback(BiObjectiveProblem& problem, const double* x, int n, double lambda, Summary& summary, int verbosity)
-      : problem_(problem), x_(x), n_(n), lambda_(lambda), summary_(summary), verbosity_(verbosity) {}
+  RecordingCallback(BiObjectiveProblem& problem, const double* x, int n, double lambda, Summary& summary, int verbosity,
+                    int first_iteration)
+      : problem_(problem), x_(x), n_(n), lambda_(lambda), summary_(summary), verbosity_(verbosity),
+        offset_(first_iteration) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
     IterationRecord rec;
-    rec.iteration = s.iteration;
+    rec.iteration = offset_ + s.iteration;
     const auto f = problem_.evaluate(Eigen::Map<const Eigen::VectorXd>(x_, n_));
     rec.f1 = f[0];
     rec.f2 = f[1];
@@ -131,6 +133,7 @@ class RecordingCallback final : public ceres::IterationCallback {
   double lambda_;
   Summary& summary_;
   int verbosity_;
+  int offset_;
 };
 
 class CeresBackend final : public WholeProblemBackend {
@@ -156,77 +159,102 @@ class CeresBackend final : public WholeProblemBackend {
     summary.kind = ScalarizationKind::kWeightedSum;
     summary.scalarization = scalarization.describe();
 
-    // One linearization fixes the weights (and gives a policy its input).
+    // Each round fixes the weights by one linearize() (which also gives a lambda policy its
+    // input) and lets Ceres solve the resulting weighted least-squares problem; robust
+    // problems re-estimate their weights at the next round (IRLS). Rounds stop when Ceres no
+    // longer decreases the re-weighted cost by more than the relative-decrease tolerance or no
+    // longer moves x by more than the step tolerance, or when the iteration budget (shared by
+    // all rounds) is spent; problems with fixed weights stop in the second round.
     LinearizeOptions lo;
     lo.profile = &summary.phases;
-    const Linearization lin = problem.linearize(x, lo);
+    Linearization lin = problem.linearize(x, lo);
     validate_linearization(lin, m.tangent_dim());
-    const double lambda = ws->lambda_for(lin);
+    double lambda = ws->lambda_for(lin);
     const auto f0 = problem.evaluate(x);
     if (!std::isfinite(f0[0]) || !std::isfinite(f0[1])) {
       throw Error("ceres(" + problem.name() + "): objectives at the initial x are not finite");
     }
     summary.initial_f1 = f0[0];
     summary.initial_f2 = f0[1];
-    summary.multiplier = lambda;
     const int n1 = static_cast<int>(problem.residuals(1, x, false).r.size());
     const int n2 = static_cast<int>(problem.residuals(2, x, false).r.size());
 
-    const Eigen::VectorXd x_start = x;
-    std::vector<double> param(x.data(), x.data() + x.size());
-    ceres::Problem::Options po;
-    po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    po.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem cp(po);
-    cp.AddResidualBlock(new WeightedSumCost(problem, lambda, n1, n2), nullptr, param.data());
-    cp.SetManifold(param.data(), new CeresManifoldAdapter(m));
-
-    ceres::Solver::Options so;
-    so.minimizer_type = ceres::TRUST_REGION;
-    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    so.linear_solver_type = ceres::DENSE_QR;
-    // Start nearly undamped (a Gauss-Newton step); Ceres' default radius 1e4 would damp the
-    // first steps of problems in raw odometry units.
-    so.initial_trust_region_radius = 1e12;
-    so.max_num_iterations = options.max_iterations;
-    so.function_tolerance = options.relative_decrease_tolerance;
-    so.parameter_tolerance = options.step_tolerance;
-    so.gradient_tolerance = 1e-30;  // stop on our tolerances, not on Ceres' gradient test
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    so.num_threads = 1;
-    so.update_state_every_iteration = true;
-    RecordingCallback callback(problem, param.data(), m.ambient_dim(), lambda, summary, options.verbosity);
-    so.callbacks.push_back(&callback);
+    int budget = options.max_iterations;
+    int rounds = 0;
+    summary.termination = TerminationReason::kMaxIterations;
+    summary.message = "reached max_iterations = " + std::to_string(options.max_iterations);
     ceres::Solver::Summary cs;
-    ceres::Solve(so, &cp, &cs);
+    for (int round = 0; budget > 0; ++round) {  // every round spends >= 1 of the budget
+      if (round > 0) {
+        lin = problem.linearize(x, lo);
+        if (!lin.f1.b.allFinite() || !lin.f2.b.allFinite() || !std::isfinite(lin.f1.a) || !std::isfinite(lin.f2.a)) {
+          summary.termination = TerminationReason::kNumericalFailure;
+          summary.message = "re-weighting linearization has NaN/Inf entries; x kept";
+          break;
+        }
+        lambda = ws->lambda_for(lin);
+      }
+      summary.multiplier = lambda;
+      ++rounds;
+      std::vector<double> param(x.data(), x.data() + x.size());
+      ceres::Problem::Options po;
+      po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+      po.manifold_ownership = ceres::TAKE_OWNERSHIP;
+      ceres::Problem cp(po);
+      cp.AddResidualBlock(new WeightedSumCost(problem, lambda, n1, n2), nullptr, param.data());
+      cp.SetManifold(param.data(), new CeresManifoldAdapter(m));
 
-    const Eigen::VectorXd x_end = Eigen::Map<const Eigen::VectorXd>(param.data(), m.ambient_dim());
-    const auto f_end = x_end.allFinite() ? problem.evaluate(x_end) : std::array<double, 2>{NAN, NAN};
-    summary.iterations = static_cast<int>(cs.iterations.size()) - 1;
-    if (!std::isfinite(f_end[0]) || !std::isfinite(f_end[1])) {
-      x = x_start;
-      summary.final_f1 = f0[0];
-      summary.final_f2 = f0[1];
-      summary.termination = TerminationReason::kNumericalFailure;
-      summary.message = "Ceres ended at a NaN/Inf point; x restored to the start (" + cs.message + ")";
-    } else {
+      ceres::Solver::Options so;
+      so.minimizer_type = ceres::TRUST_REGION;
+      so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+      so.linear_solver_type = ceres::DENSE_QR;
+      // Start nearly undamped (a Gauss-Newton step); Ceres' default radius 1e4 would damp the
+      // first steps of problems in raw odometry units.
+      so.initial_trust_region_radius = 1e12;
+      so.max_num_iterations = budget;
+      so.function_tolerance = options.relative_decrease_tolerance;
+      so.parameter_tolerance = options.step_tolerance;
+      so.gradient_tolerance = 1e-30;  // stop on our tolerances, not on Ceres' gradient test
+      so.logging_type = ceres::SILENT;
+      so.minimizer_progress_to_stdout = false;
+      so.num_threads = 1;
+      so.update_state_every_iteration = true;
+      RecordingCallback callback(problem, param.data(), m.ambient_dim(), lambda, summary, options.verbosity,
+                                 static_cast<int>(summary.records.size()));
+      so.callbacks.push_back(&callback);
+      ceres::Solve(so, &cp, &cs);
+      const int used = std::max(0, static_cast<int>(cs.iterations.size()) - 1);
+      budget -= std::max(used, 1);
+      summary.iterations += used;
+      summary.phases.add("residuals", cs.residual_evaluation_time_in_seconds + cs.jacobian_evaluation_time_in_seconds);
+      summary.phases.add("subproblem", cs.linear_solver_time_in_seconds);
+
+      const Eigen::VectorXd x_end = Eigen::Map<const Eigen::VectorXd>(param.data(), m.ambient_dim());
+      const auto f_end = x_end.allFinite() ? problem.evaluate(x_end) : std::array<double, 2>{NAN, NAN};
+      if (!std::isfinite(f_end[0]) || !std::isfinite(f_end[1])) {
+        summary.termination = TerminationReason::kNumericalFailure;
+        summary.message = "Ceres ended at a NaN/Inf point; x kept at the last good value (" + cs.message + ")";
+        break;
+      }
+      const double moved = m.minus(x_end, x).norm();
       x = x_end;
-      summary.final_f1 = f_end[0];
-      summary.final_f2 = f_end[1];
-      summary.message = cs.message;
-      if (cs.termination_type == ceres::CONVERGENCE) {
-        summary.termination = cs.message.find("Parameter tolerance") != std::string::npos
-                                  ? TerminationReason::kStepTolerance
-                                  : TerminationReason::kRelativeDecrease;
-      } else if (cs.termination_type == ceres::NO_CONVERGENCE) {
-        summary.termination = TerminationReason::kMaxIterations;
-      } else {
+      if (cs.termination_type == ceres::FAILURE || cs.termination_type == ceres::USER_FAILURE) {
         summary.termination = TerminationReason::kBackendFailure;
+        summary.message = cs.message;
+        break;
+      }
+      if (cs.termination_type == ceres::NO_CONVERGENCE) continue;  // budget decides
+      const bool no_decrease = cs.initial_cost - cs.final_cost <= options.relative_decrease_tolerance * cs.initial_cost;
+      if (round > 0 && (moved < options.step_tolerance || no_decrease)) {
+        summary.termination = moved < options.step_tolerance ? TerminationReason::kStepTolerance
+                                                             : TerminationReason::kRelativeDecrease;
+        summary.message = std::to_string(rounds) + " weight rounds; last: " + cs.message;
+        break;
       }
     }
-    summary.phases.add("residuals", cs.residual_evaluation_time_in_seconds + cs.jacobian_evaluation_time_in_seconds);
-    summary.phases.add("subproblem", cs.linear_solver_time_in_seconds);
+    const auto f_final = problem.evaluate(x);
+    summary.final_f1 = f_final[0];
+    summary.final_f2 = f_final[1];
     summary.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     summary.phases.add("other", std::max(0.0, summary.total_seconds - summary.phases.total_seconds()));
     if (options.profile) options.profile->merge(summary.phases);

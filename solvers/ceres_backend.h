@@ -5,8 +5,10 @@
 // BiObjectiveProblem::residuals(); the SE(3)/Euclidean manifold is wrapped as a
 // ceres::Manifold whose Plus is our retraction, and the cost returns J_tangent * P^+ (P the
 // manifold's PlusJacobian) so that the product Ceres forms is exactly J_tangent.
-// Weights W_j are those of one linearize() at the start; Ceres does not re-estimate them
-// (robust problems that re-weight (IRLS) should call solve() again).
+// Weights W_j are fixed during one Ceres run (those of one linearize()); robust problems are
+// handled by rounds (IRLS): linearize (re-weight) -> Ceres run, until a round no longer
+// decreases the re-weighted cost by more than the relative-decrease tolerance or moves x by
+// less than the step tolerance (one iteration budget shared by all rounds).
 // All Ceres code lives in ceres_backend.cpp (heavy headers).
 #include <memory>
 

@@ -90,6 +90,73 @@ class PointAlignmentPair final : public solvers::BiObjectiveProblem {
   solvers::Se3Manifold manifold_;
 };
 
+// Robust (IRLS) instance: F_j = sum_i w_ji r_ji^2, r_j = A_j x - y_j with outliers, weights
+// re-estimated by linearize() as Cauchy weights w = 1 / (1 + (r / c)^2) at the current x.
+// Its solution is the IRLS fixed point: x = argmin of the weighted sum with W(x) frozen.
+class ReweightedLinearPair final : public solvers::BiObjectiveProblem {
+ public:
+  explicit ReweightedLinearPair(std::uint64_t seed) : manifold_(4) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int j = 0; j < 2; ++j) {
+      A_[j].resize(30, 4);
+      y_[j].resize(30);
+      Eigen::Vector4d x_true(g(rng), g(rng), g(rng), g(rng));
+      for (int i = 0; i < 30; ++i) {
+        for (int k = 0; k < 4; ++k) A_[j](i, k) = g(rng);
+        y_[j](i) = A_[j].row(i).dot(x_true) + 0.05 * g(rng) + (i % 7 == 0 ? 5.0 : 0.0);  // outliers
+      }
+      w_[j] = Eigen::VectorXd::Ones(30);
+    }
+  }
+  std::string name() const override { return "re-weighted linear pair"; }
+  const solvers::Manifold& manifold() const override { return manifold_; }
+  Eigen::VectorXd cauchy_weights(int j, const Eigen::VectorXd& x) const {
+    const Eigen::VectorXd r = A_[j] * x - y_[j];
+    return (1.0 / (1.0 + (r.array() / 0.5).square())).matrix();
+  }
+  solvers::Linearization linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& o) override {
+    if (o.update_weights) {
+      w_[0] = cauchy_weights(0, x);
+      w_[1] = cauchy_weights(1, x);
+    }
+    solvers::Linearization lin;
+    solvers::QuadraticModel* m[2] = {&lin.f1, &lin.f2};
+    for (int j = 0; j < 2; ++j) {
+      const Eigen::VectorXd r = A_[j] * x - y_[j];
+      m[j]->a = r.dot(w_[j].cwiseProduct(r));
+      m[j]->b = A_[j].transpose() * w_[j].cwiseProduct(r);
+      m[j]->H = A_[j].transpose() * w_[j].asDiagonal() * A_[j];
+    }
+    return lin;
+  }
+  std::array<double, 2> evaluate(const Eigen::VectorXd& x) override {
+    const auto d1 = residuals(1, x, false), d2 = residuals(2, x, false);
+    return {d1.r.dot(d1.w.cwiseProduct(d1.r)), d2.r.dot(d2.w.cwiseProduct(d2.r))};
+  }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) override {
+    solvers::ResidualData d;
+    d.r = A_[j - 1] * x - y_[j - 1];
+    d.w = w_[j - 1];
+    if (with_jacobian) d.J = A_[j - 1];
+    return d;
+  }
+  // Weighted-sum optimum with the weights frozen at those of x (QR, independent of the solvers).
+  Eigen::VectorXd frozen_weight_optimum(const Eigen::VectorXd& x, double lambda) const {
+    Eigen::MatrixXd S(60, 4);
+    Eigen::VectorXd rhs(60);
+    const Eigen::VectorXd s1 = cauchy_weights(0, x).cwiseSqrt(), s2 = (lambda * cauchy_weights(1, x)).cwiseSqrt();
+    S << s1.asDiagonal() * A_[0], s2.asDiagonal() * A_[1];
+    rhs << s1.cwiseProduct(y_[0]), s2.cwiseProduct(y_[1]);
+    return S.colPivHouseholderQr().solve(rhs);
+  }
+
+ private:
+  Eigen::MatrixXd A_[2];
+  Eigen::VectorXd y_[2], w_[2];
+  solvers::EuclideanManifold manifold_;
+};
+
 // Wraps a problem and turns its objectives into NaN outside the ball |x| <= radius.
 class NanBeyond final : public solvers::BiObjectiveProblem {
  public:
@@ -244,6 +311,24 @@ TEST(SolversManifold, Se3PlusJacobianAndMinusMatchFiniteDifferences) {
   EXPECT_LT((m.minus(m.retract(x, d), x) - d).norm(), 1e-12);
   // The generic (finite-difference, Gauss-Newton) defaults of the base class agree.
   EXPECT_LT((m.Manifold::plus_jacobian(x) - P).norm(), 1e-7);
+}
+
+TEST(SolversOuterLoop, GaussNewtonAndCeresReachTheSameIrlsFixedPoint) {
+  ReweightedLinearPair p(21);
+  solvers::SolverOptions opt;
+  opt.max_iterations = 500;  // IRLS converges linearly (rate ~0.8 here)
+  opt.relative_decrease_tolerance = 1e-16;
+  opt.step_tolerance = 1e-11;
+  Eigen::VectorXd x_gn = Eigen::VectorXd::Zero(4), x_ceres = Eigen::VectorXd::Zero(4);
+  const auto a = solvers::solve(p, solvers::WeightedSum(0.5), "gn", x_gn, opt);
+  const auto b = solvers::solve(p, solvers::WeightedSum(0.5), "ceres", x_ceres, opt);
+  ASSERT_TRUE(a.converged()) << a.FullReport();
+  ASSERT_TRUE(b.converged()) << b.FullReport();
+  EXPECT_LT(rel_err(x_gn, p.frozen_weight_optimum(x_gn, 0.5)), 1e-8);
+  EXPECT_LT(rel_err(x_ceres, p.frozen_weight_optimum(x_ceres, 0.5)), 1e-8) << b.FullReport();
+  EXPECT_LT(rel_err(x_ceres, x_gn), 1e-7);  // both within 1e-8 of a fixed point; IRLS is linear
+  EXPECT_GT(rel_err(x_gn, Eigen::VectorXd(p.frozen_weight_optimum(Eigen::VectorXd::Zero(4), 0.5))), 1e-3)
+      << "the first weights must not already be the fixed point, or the test proves nothing";
 }
 
 TEST(SolversOuterLoop, NaNAfterAStepStopsWithNumericalFailureAndKeepsTheLastGoodX) {
