@@ -1,0 +1,41 @@
+#pragma once
+// Where the time of a frame pair goes, per method and backend (`bivo profile`): ms per pair
+// in each phase the layers record (solvers/profiling.h: pyramid, residuals (+ Jacobians),
+// weights, normal_equations, cone_data, subproblem, other), mean outer iterations per
+// pyramid level, and per level the gap between the epsilon-constraint (QCQP / SOCP) solution
+// and the Gauss-Newton single-objective solution of the same pairs:
+//   F_I gap = mean over pairs of (F_I(method) - F_I(single, gn)) / F_I(single, gn)
+//   F_D ratio = mean over pairs of F_D(method) / F_D(single, gn)
+// i.e. what bounding F_D costs in F_I and what it buys in F_D at each level.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "experiments/method_matrix.h"
+
+namespace bivo::experiments {
+
+struct ProfileRow {
+  std::string method, backend;
+  int pairs = 0;
+  double total_ms = 0;                          // mean per pair
+  std::map<std::string, double> phase_ms;       // mean per pair
+  std::vector<double> iterations_per_level;     // [level], mean over pairs (coarse levels last)
+  std::vector<double> f_i_gap, f_d_ratio;       // [level] vs single/gn; empty for single itself
+  std::string note;
+};
+
+struct ProfileOptions {
+  std::string sequence_dir;
+  std::vector<MethodSpec> methods;  // "single" with gn is added first when missing (the reference)
+  odometry::TrackerOptions tracker;
+  int first_frame = 0, max_frames = 30;
+  int progress = -1;
+};
+
+std::vector<ProfileRow> run_profile(const ProfileOptions& options);
+
+// profile.md / profile.csv / profile.json into dir; returns the Markdown.
+std::string write_profile(const std::vector<ProfileRow>& rows, const std::string& dir);
+
+}  // namespace bivo::experiments
