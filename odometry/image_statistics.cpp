@@ -6,23 +6,23 @@
 namespace bivo::odometry {
 
 double complexity_metric(const ImageF& image, bool skip_missing) {
-  double sum = 0.0;
-  long long used = 0;
+  double sum_x = 0.0, sum_y = 0.0;
+  long long used_x = 0, used_y = 0;
   for (int y = 1; y + 1 < image.height; ++y) {
     for (int x = 1; x + 1 < image.width; ++x) {
       const float l = image.at(x - 1, y), r = image.at(x + 1, y);
       const float u = image.at(x, y - 1), d = image.at(x, y + 1);
       if (!skip_missing || (l > 0.0f && r > 0.0f)) {
-        sum += std::abs(double(r) - l);
-        ++used;
+        sum_x += std::abs(double(r) - l);
+        ++used_x;
       }
       if (!skip_missing || (u > 0.0f && d > 0.0f)) {
-        sum += std::abs(double(d) - u);
-        ++used;
+        sum_y += std::abs(double(d) - u);
+        ++used_y;
       }
     }
   }
-  return used > 0 ? sum / (0.5 * double(used)) : 0.0;
+  return (used_x > 0 ? sum_x / used_x : 0.0) + (used_y > 0 ? sum_y / used_y : 0.0);
 }
 
 double variance(const ImageF& image, bool skip_missing) {

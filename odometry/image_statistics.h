@@ -7,9 +7,10 @@
 namespace bivo::odometry {
 
 // pi(I) = 1/((v-2)(h-2)) sum_{interior} |I(i+1,j)-I(i-1,j)| + |I(i,j+1)-I(i,j-1)|.
+// Computed as mean |row difference| + mean |column difference|, which is the same number.
 // With skip_missing (depth) a difference is used only when both of its values are valid
-// (> 0) and the sum is divided by half the number of differences used, so a fully valid
-// image gives exactly the paper's value. Returns 0 when no difference is usable.
+// (> 0) and each mean runs over the differences used, so a fully valid image gives exactly
+// the paper's value and holes do not bias it. A direction without usable differences adds 0.
 double complexity_metric(const ImageF& image, bool skip_missing);
 
 // Population variance of the values (valid ones only with skip_missing); 0 if none.

@@ -131,9 +131,10 @@ TEST(RgbdProblem, AccumulatedModelsEqualFullResidualData) {
   for (const auto& [model, full] : {std::pair{&lin.f1, &*lin.full1}, std::pair{&lin.f2, &*lin.full2}}) {
     const Eigen::VectorXd wr = full->w.cwiseProduct(full->r);
     const Eigen::MatrixXd H = full->J.transpose() * full->w.asDiagonal() * full->J;
-    EXPECT_NEAR(model->a, full->r.dot(wr), 1e-9 * std::abs(model->a));
-    EXPECT_LT((model->b - full->J.transpose() * wr).norm(), 1e-9 * model->b.norm());
-    EXPECT_LT((model->H - H).norm(), 1e-9 * H.norm());
+    EXPECT_NEAR(model->a, full->r.dot(wr), 1e-5 * std::abs(model->a));
+    EXPECT_LT((model->b - full->J.transpose() * wr).norm(), 1e-5 * model->b.norm());
+    EXPECT_LT((model->H - H).norm(), 1e-5 * H.norm());
+    // (float block sums, double totals: agreement to float precision)
     // The model is of full rank on a textured desk.
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(model->H).eigenvalues().minCoeff(), 0.0);
   }

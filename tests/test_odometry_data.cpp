@@ -1,0 +1,289 @@
+// TUM data handling: file lists, association, frame loading and its errors, intrinsics,
+// pyramids, image statistics and robust weights, each against hand-computed values.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "odometry/camera_intrinsics.h"
+#include "odometry/image_statistics.h"
+#include "odometry/png_io.h"
+#include "odometry/robust_weights.h"
+#include "odometry/rgbd_pyramid.h"
+#include "odometry/tum_dataset.h"
+#include "solvers/error.h"
+
+using namespace bivo;
+using namespace bivo::odometry;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("bivo_odometry_data_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  return dir.string();
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A tiny valid sequence: n frames of w x h, rgb at t = 1 + 0.1 k, depth 5 ms later.
+std::string make_sequence(const std::string& name, int n, int w = 16, int h = 12) {
+  const std::string dir = fresh_dir(name);
+  std::string rgb = "# color images\r\n# timestamp filename\r\n\r\n", depth = "# depth\n";
+  for (int k = 0; k < n; ++k) {
+    char t_rgb[32], t_depth[32];
+    std::snprintf(t_rgb, sizeof t_rgb, "%.6f", 1.0 + 0.1 * k);
+    std::snprintf(t_depth, sizeof t_depth, "%.6f", 1.005 + 0.1 * k);
+    Png8 c{w, h, 3, std::vector<std::uint8_t>(static_cast<std::size_t>(w * h * 3), 0)};
+    for (int i = 0; i < w * h; ++i) {
+      c.data[3 * i] = static_cast<std::uint8_t>(10 * k);
+      c.data[3 * i + 1] = 100;
+      c.data[3 * i + 2] = 200;
+    }
+    Png16 d{w, h, std::vector<std::uint16_t>(static_cast<std::size_t>(w * h), 5000)};
+    d.data[0] = 0;  // one missing measurement
+    write_png8(dir + "/rgb/" + t_rgb + ".png", c);
+    write_png16(dir + "/depth/" + t_depth + ".png", d);
+    rgb += std::string(t_rgb) + " rgb/" + t_rgb + ".png\r\n";
+    depth += std::string(t_depth) + " depth/" + t_depth + ".png\n";
+  }
+  write_text(dir + "/rgb.txt", rgb);
+  write_text(dir + "/depth.txt", depth);
+  return dir;
+}
+
+}  // namespace
+
+TEST(TumLists, CommentsBlankLinesAndCrlfAreTolerated) {
+  const std::string dir = make_sequence("lists", 3);
+  const auto rgb = read_file_list(dir + "/rgb.txt");
+  ASSERT_EQ(rgb.size(), 3u);
+  EXPECT_DOUBLE_EQ(rgb[1].timestamp, 1.1);
+  EXPECT_EQ(rgb[1].file, "rgb/1.100000.png");  // no trailing '\r'
+  EXPECT_EQ(rgb[0].line, 4);
+}
+
+TEST(TumLists, UnsortedEmptyAndMalformedListsNameFileAndLine) {
+  const std::string dir = fresh_dir("bad_lists");
+  write_text(dir + "/unsorted.txt", "# x\n2.0 a.png\n1.0 b.png\n");
+  std::string msg = error_of([&] { read_file_list(dir + "/unsorted.txt"); });
+  EXPECT_NE(msg.find("unsorted.txt:3"), std::string::npos) << msg;
+  write_text(dir + "/empty.txt", "# only comments\n\n");
+  msg = error_of([&] { read_file_list(dir + "/empty.txt"); });
+  EXPECT_NE(msg.find("empty.txt"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no entries"), std::string::npos) << msg;
+  write_text(dir + "/bad.txt", "1.0 a.png\nabc b.png\n");
+  msg = error_of([&] { read_file_list(dir + "/bad.txt"); });
+  EXPECT_NE(msg.find("bad.txt:2"), std::string::npos) << msg;
+  write_text(dir + "/extra.txt", "1.0 a.png b.png\n");
+  msg = error_of([&] { read_file_list(dir + "/extra.txt"); });
+  EXPECT_NE(msg.find("extra.txt:1"), std::string::npos) << msg;
+  EXPECT_THROW(read_file_list(dir + "/missing.txt"), Error);
+}
+
+TEST(TumLists, AssociationTakesNearestWithinDtOneToOne) {
+  const std::vector<ListedFile> rgb = {{1.00, "r0", 1}, {1.03, "r1", 2}, {1.06, "r2", 3}, {2.00, "r3", 4}};
+  const std::vector<ListedFile> depth = {{1.005, "d0", 1}, {1.028, "d1", 2}, {1.031, "d2", 3}, {1.07, "d3", 4}};
+  const auto a = associate_lists(rgb, depth, "/seq", 0.02);
+  ASSERT_EQ(a.size(), 3u);  // r3 has no depth within 0.02 s
+  EXPECT_EQ(a[0].depth_path, "/seq/d0");
+  EXPECT_EQ(a[1].depth_path, "/seq/d2");  // |1.03 - 1.031| < |1.03 - 1.028|
+  EXPECT_EQ(a[2].depth_path, "/seq/d3");
+  EXPECT_EQ(a[1].origin, "rgb.txt:2 + depth.txt:3");
+  // Tighter dt: only exact-ish pairs remain.
+  EXPECT_EQ(associate_lists(rgb, depth, "/seq", 0.002).size(), 1u);
+  EXPECT_THROW(associate_lists(rgb, depth, "/seq", 0.0), Error);
+}
+
+TEST(TumSequenceTest, NoAssociationNamesBothLists) {
+  const std::string dir = make_sequence("no_assoc", 2);
+  write_text(dir + "/depth.txt", "5.0 depth/x.png\n");
+  const std::string msg = error_of([&] { open_tum_sequence(dir); });
+  EXPECT_NE(msg.find("rgb.txt"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("depth.txt"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no rgb/depth association"), std::string::npos) << msg;
+}
+
+TEST(TumSequenceTest, AssociationsFileIsPreferredAndChecked) {
+  const std::string dir = make_sequence("assoc", 2);
+  write_text(dir + "/associations.txt",
+             "1.100000 rgb/1.100000.png 1.105000 depth/1.105000.png\n");
+  TumSequence seq = open_tum_sequence(dir);
+  ASSERT_EQ(seq.frames.size(), 1u);
+  EXPECT_DOUBLE_EQ(seq.frames[0].rgb_time, 1.1);
+  write_text(dir + "/associations.txt", "1.1 rgb/a.png 1.2 depth/b.png\n");
+  const std::string msg = error_of([&] { open_tum_sequence(dir); });
+  EXPECT_NE(msg.find("associations.txt:1"), std::string::npos) << msg;
+}
+
+TEST(TumSequenceTest, FramesLoadWithLuminanceAndMetres) {
+  const std::string dir = make_sequence("load", 2);
+  SequenceOptions o;
+  o.intrinsics = parse_intrinsics("500 501 7.5 5.5");
+  const TumSequence seq = open_tum_sequence(dir, o);
+  ASSERT_EQ(seq.frames.size(), 2u);
+  EXPECT_EQ(seq.intrinsics.fy, 501.0);
+  EXPECT_FALSE(seq.groundtruth);
+  const RgbdImage im = load_rgbd_image(seq.frames[1], 16, 12);
+  EXPECT_NEAR(im.intensity[5], 0.299 * 10 + 0.587 * 100 + 0.114 * 200, 1e-4);
+  EXPECT_FLOAT_EQ(im.depth[5], 1.0f);
+  EXPECT_FLOAT_EQ(im.depth[0], 0.0f);
+  EXPECT_DOUBLE_EQ(im.timestamp, 1.1);
+}
+
+TEST(TumSequenceTest, BadFramesNameTheFileAndItsListLine) {
+  const std::string dir = make_sequence("bad_frames", 3);
+  TumSequence seq = open_tum_sequence(dir);
+  // Missing image.
+  fs::remove(seq.frames[1].rgb_path);
+  std::string msg = error_of([&] { load_rgbd_image(seq.frames[1]); });
+  EXPECT_NE(msg.find(seq.frames[1].rgb_path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("rgb.txt:5"), std::string::npos) << msg;
+  // 8-bit depth.
+  write_png8(seq.frames[2].depth_path, Png8{16, 12, 1, std::vector<std::uint8_t>(16 * 12, 7)});
+  msg = error_of([&] { load_rgbd_image(seq.frames[2]); });
+  EXPECT_NE(msg.find(seq.frames[2].depth_path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("8-bit"), std::string::npos) << msg;
+  // Wrong size against the sequence's first frame.
+  write_png8(seq.frames[0].rgb_path, Png8{8, 12, 3, std::vector<std::uint8_t>(8 * 12 * 3, 7)});
+  msg = error_of([&] { load_rgbd_image(seq.frames[0]); });
+  EXPECT_NE(msg.find("size mismatch"), std::string::npos) << msg;
+  Png16 d{8, 12, std::vector<std::uint16_t>(8 * 12, 1)};
+  write_png16(seq.frames[0].depth_path, d);
+  msg = error_of([&] { load_rgbd_image(seq.frames[0], 16, 12); });
+  EXPECT_NE(msg.find("wrong image size"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(seq.frames[0].rgb_path), std::string::npos) << msg;
+}
+
+TEST(Intrinsics, PresetsByNameAndOverrideParsing) {
+  EXPECT_EQ(intrinsics_for_sequence("/x/rgbd_dataset_freiburg1_rpy").fx, 517.3);
+  EXPECT_EQ(intrinsics_for_sequence("rgbd_dataset_freiburg2_desk").cy, 249.7);
+  EXPECT_EQ(intrinsics_for_sequence("rgbd_dataset_freiburg3_nostructure").fy, 539.2);
+  EXPECT_EQ(intrinsics_for_sequence("my_synthetic").cx, 319.5);
+  EXPECT_THROW(parse_intrinsics("500 500 320"), Error);
+  EXPECT_THROW(parse_intrinsics("-1 500 320 240"), Error);
+  EXPECT_THROW(parse_intrinsics("500 500 320 240 1"), Error);
+}
+
+TEST(Intrinsics, LevelScalingMatchesTheAveragedPixelGrid) {
+  // A point projects at level 0 to (u, v); the coarse pixel grid of 2x2 averaging puts it
+  // at ((u - 0.5) / 2, (v - 0.5) / 2) per level.
+  const Intrinsics K{517.3, 516.5, 318.6, 255.3};
+  const Eigen::Vector3d p(0.3, -0.2, 1.7);
+  double u = K.fx * p.x() / p.z() + K.cx, v = K.fy * p.y() / p.z() + K.cy;
+  for (int level = 1; level <= 3; ++level) {
+    u = (u - 0.5) / 2;
+    v = (v - 0.5) / 2;
+    const Intrinsics Kl = K.at_level(level);
+    EXPECT_NEAR(Kl.fx * p.x() / p.z() + Kl.cx, u, 1e-12);
+    EXPECT_NEAR(Kl.fy * p.y() / p.z() + Kl.cy, v, 1e-12);
+  }
+}
+
+TEST(Pyramid, IntensityAveragesAndDepthIgnoresMissing) {
+  ImageF I{4, 2, {0, 4, 8, 8, 2, 6, 8, 8}};
+  const ImageF Ic = downsample_intensity(I);
+  ASSERT_EQ(Ic.width, 2);
+  ASSERT_EQ(Ic.height, 1);
+  EXPECT_FLOAT_EQ(Ic.data[0], 3.0f);
+  EXPECT_FLOAT_EQ(Ic.data[1], 8.0f);
+  ImageF D{4, 2, {1.0f, 0.0f, 0, 0, 2.0f, 0.0f, 0, 0}};
+  const ImageF Dc = downsample_depth(D);
+  EXPECT_FLOAT_EQ(Dc.data[0], 1.5f);  // mean of the two valid values, not of four
+  EXPECT_FLOAT_EQ(Dc.data[1], 0.0f);  // nothing valid stays missing
+  RgbdImage im;
+  im.width = 64;
+  im.height = 48;
+  im.intensity.assign(64 * 48, 1.0f);
+  im.depth.assign(64 * 48, 1.0f);
+  const RgbdPyramid p = build_pyramid(im, Intrinsics{}, 3);
+  ASSERT_EQ(p.levels.size(), 3u);
+  EXPECT_EQ(p.levels[2].intensity.width, 16);
+  EXPECT_EQ(p.levels[2].depth.height, 12);
+  EXPECT_DOUBLE_EQ(p.levels[2].K.fx, 525.0 / 4);
+  EXPECT_THROW(build_pyramid(im, Intrinsics{}, 4), Error);  // 8x6 coarsest level
+  EXPECT_THROW(build_pyramid(im, Intrinsics{}, 0), Error);
+}
+
+TEST(ImageStatisticsTest, ComplexityOfARampIsTwiceTheSlopes) {
+  // I(x, y) = 3x - 2y: every central difference over two pixels is 6 or 4.
+  ImageF I{20, 15, {}};
+  ImageF D{20, 15, {}};
+  for (int y = 0; y < 15; ++y) {
+    for (int x = 0; x < 20; ++x) {
+      I.data.push_back(3.0f * x - 2.0f * y + 100.0f);
+      D.data.push_back(1.0f + 0.01f * x);
+    }
+  }
+  EXPECT_NEAR(complexity_metric(I, false), 10.0, 1e-9);
+  EXPECT_NEAR(complexity_metric(D, true), 0.02, 1e-6);
+  // Holes do not change the depth metric: differences touching them are skipped.
+  for (int k : {25, 60, 61, 130, 200}) D.data[static_cast<std::size_t>(k)] = 0.0f;
+  EXPECT_NEAR(complexity_metric(D, true), 0.02, 1e-6);
+  // Variance and median of 1..5 (with a missing 0 skipped).
+  ImageF v{6, 1, {0, 1, 2, 3, 4, 5}};
+  EXPECT_DOUBLE_EQ(variance(v, true), 2.0);
+  EXPECT_DOUBLE_EQ(median(v, true), 3.0);
+  EXPECT_DOUBLE_EQ(median(v, false), 2.5);
+}
+
+TEST(RobustWeights, TDistributionScaleIsTheFixedPoint) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> gauss(0.0f, 4.0f);
+  std::vector<float> r(20000);
+  std::vector<unsigned char> valid(r.size(), 1);
+  for (auto& x : r) x = gauss(rng);
+  for (int i = 0; i < 500; ++i) r[static_cast<std::size_t>(i)] = 200.0f;  // outliers
+  valid[7] = 0;
+  std::vector<float> w(r.size());
+  WeightOptions o;
+  o.scale_tolerance = 1e-10;
+  const double sigma = compute_weights(r.data(), valid.data(), r.size(), o, w.data());
+  double acc = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (!valid[i]) continue;
+    acc += double(r[i]) * r[i] * 6.0 / (5.0 + double(r[i]) * r[i] / (sigma * sigma));
+    ++n;
+  }
+  EXPECT_NEAR(acc / n, sigma * sigma, 1e-5 * sigma * sigma);
+  EXPECT_LT(sigma, 8.0);  // the outliers do not blow the scale up (plain RMS would be ~32)
+  EXPECT_EQ(w[7], 0.0f);
+  EXPECT_NEAR(w[100], 6.0 / (5.0 + double(r[100]) * r[100] / (sigma * sigma)), 1e-6);
+  EXPECT_LT(w[0], 0.02f);
+}
+
+TEST(RobustWeights, HuberAndNone) {
+  std::vector<float> r = {0.1f, -0.2f, 0.3f, 10.0f, -0.1f};
+  std::vector<unsigned char> valid(r.size(), 1);
+  std::vector<float> w(r.size());
+  WeightOptions o;
+  o.kind = WeightKind::kHuber;
+  const double sigma = compute_weights(r.data(), valid.data(), r.size(), o, w.data());
+  EXPECT_NEAR(sigma, 1.4826 * 0.2, 1e-6);  // median |r| = 0.2
+  EXPECT_FLOAT_EQ(w[0], 1.0f);
+  EXPECT_NEAR(w[3], 1.345 * sigma / 10.0, 1e-6);
+  o.kind = WeightKind::kNone;
+  compute_weights(r.data(), valid.data(), r.size(), o, w.data());
+  EXPECT_FLOAT_EQ(w[3], 1.0f);
+  EXPECT_EQ(parse_weight_kind("huber"), WeightKind::kHuber);
+  EXPECT_THROW(parse_weight_kind("cauchy"), Error);
+}
