@@ -195,7 +195,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   summary.final_f2 = f[1];
   summary.feasible = last_feasible;
   if (summary.kind == ScalarizationKind::kEpsilonConstraint && summary.iterations > 0) {
-    summary.feasible = last_feasible && f[1] <= summary.epsilon * (1.0 + 1e-9) + 1e-300;
+    summary.feasible = last_feasible && f[1] <= summary.epsilon * (1.0 + 1e-6) + 1e-300;
   }
   summary.total_seconds = seconds_since(t_start);
   const double accounted = summary.phases.total_seconds();

@@ -59,7 +59,8 @@ struct Summary {
   double final_f1 = 0.0, final_f2 = 0.0;
   double multiplier = 0.0;  // last lambda or mu (+inf when the last step was infeasible)
   double epsilon = 0.0;     // last epsilon (epsilon-constraint)
-  bool feasible = true;     // last step feasible and, for epsilon, F_2 <= epsilon (1e-9 rel.)
+  bool feasible = true;     // last step feasible and, for epsilon, F_2 <= epsilon (1 + 1e-6): the
+                            // slack of a converged nonlinear solve at the default tolerances
 
   TerminationReason termination = TerminationReason::kMaxIterations;
   std::string message;      // human-readable termination detail
