@@ -86,6 +86,7 @@ class Solver {
   }
   Variables last_good_;
   double best_score_ = std::numeric_limits<double>::infinity();
+  int stalled_ = 0;
   void log_header() const;
   void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const;
 
@@ -230,6 +231,11 @@ IpmResult Solver::run() {
     if (score <= best_score_) {
       best_score_ = score;
       last_good_ = v_;
+      stalled_ = 0;
+    } else if (++stalled_ >= 3) {
+      // Three iterations without getting closer to any verdict: rounding now dominates
+      // (typically the refinement can no longer resolve the KKT system), stop with the best.
+      return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
 

@@ -1,0 +1,26 @@
+#include "solvers/step/ipm_full_backend.h"
+
+#include "solvers/conic/qcqp_socp.h"
+#include "solvers/error.h"
+
+namespace bivo::solvers {
+
+StepResult IpmFullBackend::solve(const Subproblem& sp) {
+  if (sp.kind != ScalarizationKind::kEpsilonConstraint || sp.lin == nullptr) {
+    throw Error("ipm-full: needs an epsilon-constraint subproblem with a linearization");
+  }
+  const Linearization& lin = *sp.lin;
+  if (!lin.full1 || !lin.full2 || lin.full1->J.size() == 0 || lin.full2->J.size() == 0) {
+    throw Error("ipm-full: the linearization has no full residuals/Jacobians (LinearizeOptions::want_full)");
+  }
+  const conic::QcqpConeStep s = conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_);
+  StepResult r;
+  r.delta = s.delta;
+  r.multiplier = s.mu;
+  r.feasible = s.feasible;
+  r.iterations = s.iterations;
+  r.status = s.status;
+  return r;
+}
+
+}  // namespace bivo::solvers
