@@ -1,6 +1,7 @@
 // `bivo run SEQUENCE_DIR --method M [--backend B] ...`: frame-to-frame odometry over one TUM
 // sequence; writes the TUM trajectory and a per-pair log, ends stdout with the run line
 // "frames=N median_ms=X mean_ms=Y failures=K".
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -74,6 +75,14 @@ void add_run_command(CLI::App& app) {
       req.tracker.policy.phi = *a->phi;
     }
     req.tracker.levels = a->levels;
+    // Fail before the run, not after it, when an output cannot be written.
+    for (const std::string* path : {&a->output, &a->log}) {
+      if (path->empty()) continue;
+      const auto parent = std::filesystem::absolute(*path).parent_path();
+      if (!std::filesystem::is_directory(parent)) {
+        throw Error("cannot write '" + *path + "': directory '" + parent.string() + "' does not exist");
+      }
+    }
     const RunOutcome run = run_sequence(req);
     if (!a->output.empty()) odometry::write_tum_trajectory(a->output, run.trajectory);
     if (!a->log.empty()) write_pair_log(a->log, run);

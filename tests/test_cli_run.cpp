@@ -1,0 +1,170 @@
+// `bivo run` through the built binary (BIVO_BINARY) on a tiny rendered sequence (no data
+// needed): output formats, the first pose taken from ground truth, and bad input (unknown
+// method or backend, a backend that cannot solve the method, options of another method,
+// missing sequence, unwritable output) -> exit 1, a clear message and no file left behind.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "odometry/synth_sequence.h"
+#include "odometry/trajectory.h"
+
+namespace fs = std::filesystem;
+using namespace bivo;
+
+namespace {
+
+struct CliResult {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+CliResult run_bivo(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd =
+      std::string("'") + BIVO_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
+  const int raw = std::system(cmd.c_str());
+  CliResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+// One 4-frame synthetic sequence shared by all tests of this file.
+class CliRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("bivo_cli_run_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    odometry::synth::SynthOptions o;
+    o.category = odometry::synth::parse_category("structure_texture_near");
+    o.frames = 4;
+    o.seed = 3;
+    sequence_ = odometry::synth::render_sequence(o, root_.string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override {
+    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(dir_);
+  }
+  std::string q(const fs::path& p) const { return "'" + p.string() + "'"; }
+  std::string seq() const { return q(sequence_); }
+  void expect_no_leftovers() const {
+    for (const auto& e : fs::directory_iterator(dir_)) {
+      const std::string name = e.path().filename().string();
+      EXPECT_TRUE(name == "stdout.txt" || name == "stderr.txt") << "left behind: " << e.path();
+    }
+  }
+  static fs::path root_;
+  static std::string sequence_;
+  fs::path dir_;
+};
+fs::path CliRun::root_;
+std::string CliRun::sequence_;
+
+}  // namespace
+
+TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
+  const CliResult r = run_bivo("run " + seq() + " --method single --output " + q(dir_ / "traj.txt") + " --log " +
+                                   q(dir_ / "pairs.csv"),
+                               dir_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  // The last line of stdout is the run line; no progress bar on a non-terminal stderr.
+  const std::regex line(R"((^|\n)frames=4 median_ms=[0-9.]+ mean_ms=[0-9.]+ failures=0\n$)");
+  EXPECT_TRUE(std::regex_search(r.out, line)) << r.out;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+
+  const auto est = odometry::read_tum_trajectory((dir_ / "traj.txt").string());
+  const auto gt = odometry::read_tum_trajectory(sequence_ + "/groundtruth.txt");
+  ASSERT_EQ(est.size(), 4u);
+  // One pose per rgb frame at the frame's timestamp; the first one is the ground truth's.
+  std::vector<double> rgb_stamps;
+  std::istringstream rgb(slurp(sequence_ + "/rgb.txt"));
+  for (std::string l; std::getline(rgb, l);) {
+    if (!l.empty() && l[0] != '#') rgb_stamps.push_back(std::stod(l));
+  }
+  ASSERT_EQ(rgb_stamps.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_NEAR(est[k].timestamp, rgb_stamps[k], 1e-6);
+  EXPECT_LT((est[0].T_wc.matrix() - gt[0].T_wc.matrix()).norm(), 1e-6);
+
+  const std::string log = slurp(dir_ / "pairs.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 4);  // header + 3 pairs
+  EXPECT_EQ(log.rfind("pair,t_reference,t_current,valid,iterations,ms", 0), 0u) << log;
+}
+
+TEST_F(CliRun, StartFrameAndMaxFramesSelectTheWindow) {
+  const CliResult r =
+      run_bivo("run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"), dir_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("frames=2 "), std::string::npos) << r.out;
+  EXPECT_EQ(odometry::read_tum_trajectory((dir_ / "t.txt").string()).size(), 2u);
+}
+
+TEST_F(CliRun, UnknownMethodListsTheValidOnes) {
+  const CliResult r = run_bivo("run " + seq() + " --method newton --output " + q(dir_ / "t.txt"), dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("newton"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bounded"), std::string::npos) << r.err;
+  expect_no_leftovers();
+}
+
+TEST_F(CliRun, UnknownBackendListsTheValidOnes) {
+  const CliResult r = run_bivo("run " + seq() + " --method bounded --backend cvxpy --output " + q(dir_ / "t.txt"), dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("cvxpy"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exact"), std::string::npos) << r.err;
+  expect_no_leftovers();
+}
+
+TEST_F(CliRun, BackendThatCannotSolveTheMethodFails) {
+  // gn solves weighted sums only; bounded is an epsilon-constraint.
+  const CliResult r = run_bivo("run " + seq() + " --method bounded --backend gn --output " + q(dir_ / "t.txt"), dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("gn"), std::string::npos) << r.err;
+  expect_no_leftovers();
+}
+
+TEST_F(CliRun, OptionOfAnotherMethodFails) {
+  const CliResult r = run_bivo("run " + seq() + " --method single --lambda 10", dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--lambda"), std::string::npos) << r.err;
+}
+
+TEST_F(CliRun, MissingSequenceIsNamed) {
+  const CliResult r = run_bivo("run " + q(dir_ / "nowhere") + " --method single", dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+}
+
+TEST_F(CliRun, UnwritableOutputFailsAndLeavesNothing) {
+  const fs::path target = dir_ / "missing_dir" / "traj.txt";
+  const CliResult r = run_bivo("run " + seq() + " --method single --max-frames 2 --output " + q(target), dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("traj.txt"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(target));
+  expect_no_leftovers();
+}
+
+TEST_F(CliRun, EverySubcommandHasHelp) {
+  for (const char* sub : {"run", "eval", "table", "sweep", "pareto", "profile", "report", "demo"}) {
+    const CliResult r = run_bivo(std::string(sub) + " --help", dir_);
+    EXPECT_EQ(r.status, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub << ": " << r.out;
+  }
+}
