@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odometry/atomic_file.h"
+#include "odometry/camera_intrinsics.h"
 #include "odometry/png_io.h"
 #include "solvers/error.h"
 
@@ -119,9 +120,13 @@ void validate(const SynthOptions& o) {
   if (o.frames < 1) throw Error("synth: --frames must be >= 1, got " + std::to_string(o.frames));
   if (!(o.fps > 0)) throw Error("synth: fps must be positive, got " + std::to_string(o.fps));
   const std::string name = o.sequence_name.empty() ? default_sequence_name(o.category) : o.sequence_name;
-  if (name.find("freiburg3") == std::string::npos) {
-    throw Error("synth: sequence name '" + name +
-                "' must contain 'freiburg3' (the rendering camera has freiburg3 intrinsics)");
+  // Readers pick intrinsics from the sequence name: it must select the rendering camera.
+  const Intrinsics preset = intrinsics_for_sequence(name);
+  const PinholeCamera& cam = o.render.camera;
+  if (preset.fx != cam.fx || preset.fy != cam.fy || preset.cx != cam.cx || preset.cy != cam.cy) {
+    throw Error("synth: sequence name '" + name + "' selects intrinsics " + std::to_string(preset.fx) + " " +
+                std::to_string(preset.fy) + " " + std::to_string(preset.cx) + " " + std::to_string(preset.cy) +
+                ", not the rendering camera's (freiburg3: name it with 'freiburg3' and no other preset)");
   }
   if (name.find('/') != std::string::npos || name == "." || name == "..") {
     throw Error("synth: sequence name '" + name + "' must be a plain folder name");

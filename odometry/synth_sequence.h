@@ -43,8 +43,9 @@ struct SynthOptions {
   // Frames are rendered and written by this many threads (0 = one per hardware thread);
   // the files do not depend on it (all randomness is per frame).
   int threads = 0;
-  // Folder name; empty = "rgbd_dataset_freiburg3_synth_<category>". Must contain
-  // "freiburg3" so the intrinsics preset matches the rendering camera.
+  // Folder name; empty = "rgbd_dataset_freiburg3_synth_<category>". Must make
+  // intrinsics_for_sequence() pick the rendering camera (contain "freiburg3" and no other
+  // preset name such as "freiburg1").
   std::string sequence_name;
 };
 

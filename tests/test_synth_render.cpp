@@ -104,6 +104,8 @@ TEST(SynthRender, DepthNoiseMatchesKinectModel) {
     }
     const double q = step / (s.camera.fx * s.depth.baseline_m);
     const double expected = std::sqrt(s.depth.noise_coeff * s.depth.noise_coeff + q * q / 12.0);
+    std::cout << "disparity step " << step << " px: sd((z_noisy - z)/z^2) = " << stddev(r) << " (model " << expected
+              << ")\n";
     EXPECT_NEAR(stddev(r), expected, 0.05 * expected) << "disparity step " << step;
   }
 }
@@ -122,6 +124,7 @@ TEST(SynthRender, IntensityNoiseMatchesSensorModel) {
     z.push_back((noisy.rgb[i] - c) / std::sqrt(var));
   }
   ASSERT_GT(z.size(), 100000u);
+  std::cout << "normalized intensity noise sd = " << stddev(z) << " (model 1)\n";
   EXPECT_NEAR(stddev(z), 1.0, 0.05);
 }
 

@@ -287,6 +287,8 @@ TEST(SynthSequence, BadInputGivesClearErrorsAndNoFolder) {
   expect_error([&] { synth::render_sequence(o, gappy, out.string(), "gappy.txt"); }, "gap");
   o.sequence_name = "my_sequence";
   expect_error([&] { synth::render_sequence(o, out.string()); }, "freiburg3");
+  o.sequence_name = "rgbd_dataset_freiburg1_desk_synth_freiburg3";  // the reader would pick freiburg1
+  expect_error([&] { synth::render_sequence(o, out.string()); }, "517.3");
   o.sequence_name.clear();
   o.frames = 0;
   expect_error([&] { synth::render_sequence(o, out.string()); }, "frames");
