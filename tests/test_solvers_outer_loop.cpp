@@ -311,6 +311,7 @@ TEST(SolversManifold, Se3PlusJacobianAndMinusMatchFiniteDifferences) {
   EXPECT_LT((m.minus(m.retract(x, d), x) - d).norm(), 1e-12);
   // The generic (finite-difference, Gauss-Newton) defaults of the base class agree.
   EXPECT_LT((m.Manifold::plus_jacobian(x) - P).norm(), 1e-7);
+  EXPECT_LT((m.Manifold::minus(m.retract(x, d), x) - d).norm(), 1e-8);
 }
 
 TEST(SolversOuterLoop, GaussNewtonAndCeresReachTheSameIrlsFixedPoint) {

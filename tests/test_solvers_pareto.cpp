@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "problems/exponential_decay_pair.h"
 #include "problems/linear_least_squares_pair.h"
 #include "solvers/error.h"
 #include "solvers/pareto.h"
@@ -85,6 +86,25 @@ TEST(SolversPareto, EpsilonSweepReproducesTheAnalyticFrontAndItsRange) {
     EXPECT_GE(front.points.size(), 14u);  // the two ends may coincide numerically with neighbours only
     expect_mutually_nondominated(front.points);
   }
+}
+
+TEST(SolversPareto, WarmStartedLambdaSweepFollowsTheNonlinearOracle) {
+  auto p = bivo::problems::ExponentialDecayPair::synthetic(60, 17);
+  auto o = tight(9);
+  o.lambda_min = 1e-2;
+  o.lambda_max = 1e2;
+  o.solver.max_iterations = 200;
+  const auto front = solvers::sweep_lambda(p, Eigen::Vector3d(1.0, 1.0, 1.0), o);
+  ASSERT_EQ(front.points.size(), 9u);
+  for (const auto& q : front.points) {
+    EXPECT_TRUE(q.converged) << "lambda " << q.parameter;
+    EXPECT_LT(rel_err(q.x, p.weighted_sum_optimum(q.parameter)), 1e-7) << "lambda " << q.parameter;
+  }
+  expect_mutually_nondominated(front.points);
+  const auto knee = solvers::knee_index(front.points);
+  ASSERT_TRUE(knee.has_value());
+  EXPECT_GT(*knee, 0u);
+  EXPECT_LT(*knee, 8u);
 }
 
 TEST(SolversPareto, DominatedPointsAndDuplicatesAreDropped) {
