@@ -21,7 +21,7 @@
 namespace bivo::solvers {
 
 struct ExactQcqpOptions {
-  // |m_2(d) - epsilon| <= tol * max(epsilon, |m_2 range|) ends the search on mu.
+  // |m_2(d) - epsilon| <= tol * max(epsilon, |min m_2|) ends the search on mu.
   double relative_tolerance = 1e-14;
   int max_iterations = 200;
   // Eigenvalues of (H_1 + H_2)/2 below this times the largest count as zero.
