@@ -10,6 +10,10 @@
 #include "solvers/step/gauss_newton.h"
 #include "solvers/step/levenberg_marquardt.h"
 // ---- conic/NLP backend headers (issue 5): added by their owner ----
+#include "solvers/step/ipm_compressed_backend.h"
+#include "solvers/step/ipm_full_backend.h"
+#include "solvers/step/ipopt_qcqp_backend.h"
+#include "solvers/step/nlopt_slsqp_backend.h"
 // ---- end of conic/NLP backend headers ----
 
 namespace bivo::solvers {
@@ -52,6 +56,14 @@ std::vector<BackendInfo> build_registry() {
       "ceres", "Ceres trust region on F1 + lambda F2 as one problem over the manifold",
       [] { return make_ceres_backend(); }));
   // ---- conic/NLP backends (issue 5): registered by their owner ----
+  r.push_back(step_backend<IpmFullBackend>(
+      "ipm-full", "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of dimension n+1"));
+  r.push_back(step_backend<IpmCompressedBackend>(
+      "ipm-compressed", "own conic IPM, cones compressed to 7 by QR/Gram factors, floor outside the cone"));
+  r.push_back(step_backend<IpoptQcqpBackend>(
+      "ipopt", "Ipopt (MUMPS) on the scaled QCQP step, exact Hessian, bound_relax_factor = 0"));
+  r.push_back(step_backend<NloptSlsqpBackend>(
+      "nlopt", "NLopt SLSQP on the QCQP step with scaled variables and functions"));
   // ---- end of conic/NLP backends ----
   return r;
 }
