@@ -1,0 +1,85 @@
+// `bivo conic FILE` end to end: a known LP/SOCP solved from JSON (dense rows and
+// triplets), and bad input rejected with a message naming the file and the fault.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(BIVO_BINARY) + " conic " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[512];
+  while (p && fgets(buf, sizeof buf, p)) out += buf;
+  const int status = p ? pclose(p) : -1;
+  return {WEXITSTATUS(status), out};
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+double objective(const std::string& out) {
+  const auto k = out.find("objective: ");
+  return k == std::string::npos ? std::nan("") : std::stod(out.substr(k + 11));
+}
+
+}  // namespace
+
+TEST(ConicCli, SolvesDenseAndTripletFormats) {
+  // min -x1 - x2 s.t. x1 + 2 x2 <= 4, 3 x1 + x2 <= 6, x >= 0: optimum -2.8.
+  const std::string dense = write("lp_dense.json",
+      R"({"c": [-1, -1], "G": [[1, 2], [3, 1], [-1, 0], [0, -1]], "h": [4, 6, 0, 0], "cones": {"l": 4}})");
+  CliRun r = run(dense + " --verbose");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("status: optimal"), std::string::npos) << r.out;
+  EXPECT_NEAR(objective(r.out), -2.8, 1e-7) << r.out;
+  EXPECT_NE(r.out.find("pcost"), std::string::npos) << r.out;
+  // min t s.t. ||(x1 - 3, x2 - 4)|| <= t: distance 0 at (3, 4); plus x1 + x2 = 1 -> 6/sqrt(2).
+  const std::string soc = write("soc_triplets.json",
+      R"({"c": [1, 0, 0], "A": [[0, 1, 1]], "b": [1],
+          "G": {"rows": 3, "cols": 3, "triplets": [[0, 0, -1], [1, 1, -1], [2, 2, -1]]},
+          "h": [0, -3, -4], "cones": {"q": [3]}})");
+  r = run(soc);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(objective(r.out), 6.0 / std::sqrt(2.0), 1e-7) << r.out;
+}
+
+TEST(ConicCli, BadInputIsAnErrorNamingTheFault) {
+  struct Case {
+    std::string json, expect;
+  } cases[] = {
+      {R"({"c": [1], "G": [[1]], "h": [1], "cones": {"l": 2}})", "sum to 2"},
+      {R"({"c": [1, 2], "G": [[1]], "h": [1], "cones": {"l": 1}})", "row 0 must have 2"},
+      {R"({"c": [1], "G": [[1]], "h": ["x"], "cones": {"l": 1}})", "h[0] is not a number"},
+      {R"({"c": [1], "G": [[1]], "h": [1]})", "missing \"cones\""},
+      {R"({"c": [1], "G": {"rows": 1, "cols": 1, "triplets": [[3, 0, 1]]}, "h": [1], "cones": {"l": 1}})", "outside"},
+      {R"({"c": [1], "G": [[1]], "h": [1], "cones": {"q": [0]}})", "cones.q[0]"},
+      {R"({"c": [1], "G": [[1]], "h": [1, 2], "cones": {"l": 2}})", "G has 1 rows but h has 2"},
+      {R"({"c": [1], )", "not valid JSON"},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string path = write("bad" + std::to_string(k++) + ".json", c.json);
+    const CliRun r = run(path);
+    EXPECT_EQ(r.code, 1) << c.json << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.json << "\n" << r.out;
+    EXPECT_NE(r.out.find(path), std::string::npos) << r.out;
+  }
+  const CliRun missing = run("/nonexistent/problem.json");
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.out.find("cannot open"), std::string::npos) << missing.out;
+}
