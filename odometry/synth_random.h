@@ -58,7 +58,6 @@ class HashRng {
   int integer(int lo, int hi_inclusive) {
     return lo + static_cast<int>(uniform() * (hi_inclusive - lo + 1));
   }
-  double normal() { return gaussian(seed_, stream_ ^ 0x5bd1e995ull, counter_++); }
 
  private:
   std::uint64_t seed_, stream_, counter_ = 0;
