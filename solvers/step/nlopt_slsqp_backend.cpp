@@ -63,8 +63,14 @@ StepResult NloptSlsqpBackend::solve(const Subproblem& sp) {
   std::vector<double> y(n, 0.0);
   double fval = 0.0;
   nlopt::result res;
+  std::string note;
   try {
     res = opt.optimize(y, fval);
+  } catch (const nlopt::roundoff_limited&) {
+    // SLSQP's line search hit rounding: y holds its last iterate, usually converged to
+    // working precision; reported in the status.
+    res = nlopt::ROUNDOFF_LIMITED;
+    note = " (roundoff-limited)";
   } catch (const std::exception& e) {
     throw Error(std::string("nlopt: SLSQP failed: ") + e.what());
   }
@@ -77,8 +83,8 @@ StepResult NloptSlsqpBackend::solve(const Subproblem& sp) {
   const double lambda = active && gg.squaredNorm() > 0.0 ? std::max(0.0, -gf.dot(gg) / gg.squaredNorm()) : 0.0;
   r.multiplier = q.to_mu(lambda);
   r.iterations = data.evaluations;
-  r.status = res > 0 ? "optimal (nlopt code " + std::to_string(static_cast<int>(res)) + ")"
-                     : "nlopt code " + std::to_string(static_cast<int>(res));
+  r.status = (res > 0 ? "optimal (nlopt code " + std::to_string(static_cast<int>(res)) + ")"
+                      : "nlopt code " + std::to_string(static_cast<int>(res))) + note;
   return r;
 }
 
