@@ -232,9 +232,10 @@ IpmResult Solver::run() {
       best_score_ = score;
       last_good_ = v_;
       stalled_ = 0;
-    } else if (++stalled_ >= 3) {
-      // Three iterations without getting closer to any verdict: rounding now dominates
+    } else if (best_score_ < 1e-6 && ++stalled_ >= 3) {
+      // Close to a verdict, three iterations without getting closer: rounding now dominates
       // (typically the refinement can no longer resolve the KKT system), stop with the best.
+      // Far from convergence the measures may rise for a while (HSDE), so no test there.
       return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
