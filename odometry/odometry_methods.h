@@ -36,10 +36,10 @@ std::string default_backend(Method method);
 
 // Defaults chosen by the sweep documented in docs/odometry.md ("Choosing the defaults").
 struct PolicyParameters {
-  double lambda = 1000.0;       // method fixed [gray^2 / m^2]
-  double phi = 1.0;             // method weighted: the adjustable constant of eq. `eq to calculate lambda`
+  double lambda = 1e5;          // method fixed [gray^2 / m^2]
+  double phi = 100.0;           // method weighted: the adjustable constant of eq. `eq to calculate lambda`
   double delta = 0.02;          // method bounded: threshold on pi(D) [m per pixel]
-  double eps_min = 1e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
+  double eps_min = 3e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
   double eps_max = 1e-3;        // method bounded: per-unit-weight bound [m^2] on poor structure
   std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
 };
