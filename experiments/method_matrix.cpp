@@ -36,10 +36,12 @@ MethodMatrix run_matrix(const MatrixOptions& options) {
   MethodMatrix out;
   out.methods = options.methods;
   for (const auto& dir : options.sequences) {
-    out.sequences.push_back(std::filesystem::path(dir).lexically_normal().filename().string());
-    if (out.sequences.back().empty()) {
-      out.sequences.back() = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
-    }
+    auto name = std::filesystem::path(dir).lexically_normal().filename().string();
+    if (name.empty()) name = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
+    // Column headers: "freiburg1_rpy" rather than "rgbd_dataset_freiburg1_rpy".
+    const std::string prefix = "rgbd_dataset_";
+    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size()) name = name.substr(prefix.size());
+    out.sequences.push_back(name);
   }
   for (const auto& m : options.methods) {
     for (size_t s = 0; s < options.sequences.size(); ++s) {

@@ -59,7 +59,7 @@ SweepResult run_sweep(const SweepOptions& o) {
       try {
         const auto [rpe, run] = run_rpe(req, what.str());
         SweepPoint p;
-        p.sequence = ref_run.sequence;
+        p.sequence = ref_run.sequence.rfind("rgbd_dataset_", 0) == 0 ? ref_run.sequence.substr(13) : ref_run.sequence;
         p.parameter = parameter;
         p.value = value;
         p.rpe_trans = rpe.trans_rmse;

@@ -59,7 +59,9 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
   std::ostringstream md;
   md << "# " << o.title << "\n\n" << o.preamble << (o.preamble.empty() ? "" : "\n\n");
 
-  // 1. Methods x sequences.
+  // 1. Methods x sequences. Stages are announced on stderr: the runs can take minutes.
+  std::cerr << "report: running " << o.methods.size() << " method(s) on " << o.sequences.size()
+            << " sequence(s)...\n";
   MatrixOptions mo;
   mo.sequences = o.sequences;
   mo.methods = o.methods;
@@ -107,6 +109,7 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
        << o.sweep_max_frames
        << " frames of each sequence; ratios are to the single-objective run of the same frames (below 1: "
           "the depth objective helps).\n\n";
+    std::cerr << "report: lambda/epsilon sweeps...\n";
     if (so.sequences.empty()) {
       md << "No sequence with ground truth: no sweep.\n\n";
     } else {
@@ -126,6 +129,7 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
           "translation error of the point's T_21 against ground truth; stars = the pose each method "
           "estimates for the pair; diamond = knee (farthest from the chord in normalized objectives).\n\n";
     fs::create_directories(dir + "/pareto");
+    std::cerr << "report: Pareto fronts...\n";
     for (size_t c = 0; c < o.sequences.size(); ++c) {
       const auto& cell = result.matrix.at(0, int(c));
       if (!cell.run || cell.run->pairs.empty()) continue;
