@@ -25,4 +25,5 @@ for ax, seq in zip(axes[:, 0], sequences):
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=3)
 axes[-1, 0].set_xlabel("time since first frame [s]")
+fig.subplots_adjust(hspace=0.4)
 save(fig, out)
