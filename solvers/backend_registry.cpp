@@ -10,6 +10,7 @@
 #include "solvers/step/gauss_newton.h"
 #include "solvers/step/levenberg_marquardt.h"
 // ---- conic/NLP backend headers (issue 5): added by their owner ----
+#include "solvers/ipopt_nlp_backend.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"
 #include "solvers/step/ipopt_qcqp_backend.h"
@@ -64,6 +65,9 @@ std::vector<BackendInfo> build_registry() {
       "ipopt", "Ipopt (MUMPS) on the scaled QCQP step, exact Hessian, bound_relax_factor = 0"));
   r.push_back(step_backend<NloptSlsqpBackend>(
       "nlopt", "NLopt SLSQP on the QCQP step with scaled variables and functions"));
+  r.push_back(whole_problem_backend(
+      "ipopt-nlp", "Ipopt on min F1 s.t. F2 <= epsilon as one nonlinear problem over the manifold, Gauss-Newton Hessian",
+      [] { return make_ipopt_nlp_backend(); }));
   // ---- end of conic/NLP backends ----
   return r;
 }
