@@ -3,6 +3,7 @@
 // exact-step outer loop on the nonlinear exponential-decay pair and on an SE(3) alignment
 // pair (with the KKT check x = argmin F1 + mu F2 on the former), and the failure paths.
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -124,6 +125,8 @@ TEST(IpoptNlp, MatchesTheClosedFormEpsilonOptimumOnLinearPairs) {
       EXPECT_TRUE(s.converged());
       EXPECT_TRUE(s.feasible);
       EXPECT_LT(rel_err(x, oracle.x), 1e-5);
+      std::printf("linear draw %d frac %.1f: |x - x*| rel %.2e, mu rel %.2e, rounds %zu, Ipopt its %d\n", draw, frac,
+                  rel_err(x, oracle.x), std::abs(s.multiplier - oracle.mu) / oracle.mu, s.records.size(), s.iterations);
       EXPECT_NEAR(s.multiplier, oracle.mu, 1e-5 * oracle.mu);
       EXPECT_LE(s.final_f2, eps * (1 + 1e-9));  // bound_relax_factor = 0
       EXPECT_NEAR(s.final_f2, eps, 1e-6 * eps);  // the constraint is active for eps < F2(argmin F1)
@@ -155,6 +158,8 @@ TEST(IpoptNlp, AgreesWithTheExactStepOuterLoopOnTheNonlinearPair) {
     EXPECT_TRUE(s.converged());
     EXPECT_TRUE(s.feasible);
     EXPECT_LT(rel_err(x, x_exact), 1e-5);
+    std::printf("exp-decay frac %.2f: |x - x_exact| rel %.2e, mu rel %.2e, rounds %zu\n", frac, rel_err(x, x_exact),
+                std::abs(s.multiplier - a.multiplier) / a.multiplier, s.records.size());
     EXPECT_NEAR(s.multiplier, a.multiplier, 1e-4 * a.multiplier);
     EXPECT_LE(s.final_f2, eps * (1 + 1e-9));
     // KKT of eq. `bounded objective form`, from the variable-projection oracle.
@@ -182,6 +187,9 @@ TEST(IpoptNlp, AgreesWithTheExactStepOuterLoopOnSe3) {
     EXPECT_TRUE(s.feasible);
     const auto Ta = solvers::se3::from_ambient(x_exact), Tb = solvers::se3::from_ambient(x);
     EXPECT_LT(solvers::se3::log(Ta * Tb.inverse()).norm(), 1e-5);
+    std::printf("SE(3) frac %.1f: |log(T_exact T^-1)| %.2e, mu rel %.2e, rounds %zu\n", frac,
+                solvers::se3::log(Ta * Tb.inverse()).norm(), std::abs(s.multiplier - a.multiplier) / a.multiplier,
+                s.records.size());
     EXPECT_NEAR(s.multiplier, a.multiplier, 1e-4 * a.multiplier);
     EXPECT_LE(s.final_f2, eps * (1 + 1e-9));
   }
