@@ -204,44 +204,44 @@ void KktSystem::ldl_solve(Eigen::VectorXd& x) {
   ldl_permt(N_, x.data(), work2_.data(), P_.data());
 }
 
-void KktSystem::multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+// Reduced K v into out; every buffer is a member sized once, because at the compressed
+// problem's 14 cone rows allocation, not arithmetic, dominated a Newton solve.
+void KktSystem::multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   const int nr = n_ + p_ + m_;
   out.resize(nr);
-  const auto x = v.head(n_);
-  const auto y = v.segment(n_, p_);
-  const Eigen::VectorXd z = v.segment(n_ + p_, m_);
   out.head(n_).setZero();
   if (p_ > 0) {
-    out.head(n_) += A_.transpose() * y;
-    out.segment(n_, p_) = A_ * x;
+    out.head(n_).noalias() += A_.transpose() * v.segment(n_, p_);
+    out.segment(n_, p_).noalias() = A_ * v.head(n_);
   }
-  Eigen::VectorXd w2z;
-  cones_.apply_w_squared(w_, z, w2z);
   if (m_ > 0) {
-    out.head(n_) += G_.transpose() * z;
-    out.segment(n_ + p_, m_) = G_ * x - w2z;
+    z_ = v.segment(n_ + p_, m_);
+    cones_.apply_w_squared(w_, z_, w2z_);
+    out.head(n_).noalias() += G_.transpose() * z_;
+    out.segment(n_ + p_, m_).noalias() = G_ * v.head(n_);
+    out.segment(n_ + p_, m_) -= w2z_;
   }
 }
 
 bool KktSystem::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol) {
   const int nr = n_ + p_ + m_;
-  sol = Eigen::VectorXd::Zero(nr);
-  Eigen::VectorXd residual = rhs, kv;
+  sol.setZero(nr);
+  residual_ = rhs;
   const double target = settings_.refinement_tolerance * (1.0 + rhs.lpNorm<Eigen::Infinity>());
   double last_norm = std::numeric_limits<double>::infinity();
   last_refine_ = 0;
   for (int step = 0; step <= settings_.max_refinement_steps; ++step) {
-    work_.head(nr) = residual;
+    work_.head(nr) = residual_;
     work_.tail(N_ - nr).setZero();
     ldl_solve(work_);
-    Eigen::VectorXd candidate = sol + work_.head(nr);
-    multiply_true(candidate, kv);
-    Eigen::VectorXd new_residual = rhs - kv;
-    const double norm = new_residual.lpNorm<Eigen::Infinity>();
+    candidate_ = sol + work_.head(nr);
+    multiply_true(candidate_, kv_);
+    new_residual_ = rhs - kv_;
+    const double norm = new_residual_.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(norm)) return step > 0;
     if (norm >= last_norm) break;  // refinement stalled: keep the better iterate
-    sol = std::move(candidate);
-    residual = std::move(new_residual);
+    sol.swap(candidate_);
+    residual_.swap(new_residual_);
     last_norm = norm;
     last_refine_ = step;
     if (norm <= target) break;

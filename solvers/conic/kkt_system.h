@@ -44,7 +44,7 @@ class KktSystem {
   int last_dynamic_pivots() const { return dynamic_pivots_; }
 
  private:
-  void multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;  // reduced K v
+  void multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out);  // reduced K v
   void ldl_solve(Eigen::VectorXd& x_expanded);
   bool numeric_with_dynamic_regularization();
 
@@ -66,6 +66,8 @@ class KktSystem {
   std::vector<int> P_, Pinv_, Lp_, Parent_, Lnz_, Flag_, Pattern_, Li_;
   std::vector<double> Lx_, D_, Y_;
   Eigen::VectorXd work_, work2_;
+  // Refinement buffers (reused across solves).
+  Eigen::VectorXd residual_, candidate_, new_residual_, kv_, z_, w2z_;
   int last_refine_ = 0;
   int dynamic_pivots_ = 0;
   std::vector<double> sign_;  // expected pivot sign per unpermuted variable
