@@ -6,8 +6,8 @@
 //
 // Variables: tangent coordinates d around a centre x_c, x(d) = x_c (+) d. The Jacobian of
 // r_j(x(d)) in d is J_j(x(d)) T(d), with J_j the problem's tangent Jacobian at x(d) (left
-// perturbation at x(d)) and T(d) = d [x(d) (-) ... ] the map from a change of d to the
-// perturbation at x(d): T = I exactly on a Euclidean manifold; on other manifolds (SE(3))
+// perturbation at x(d)) and T(d) = d [(x_c (+) (d + e)) (-) x(d)] / d e at e = 0, the map from a
+// change of d to the perturbation at x(d): T = I exactly on a Euclidean manifold; on others (SE(3))
 // T(d) is the central difference of minus(retract(x_c, d +- h e_k), x(d)), and T(0) = I
 // exactly. Ipopt is run in ROUNDS that re-centre x_c at the last solution (so the final
 // round sits at d ~ 0, where T is exact) and re-linearize (robust problems re-estimate their
