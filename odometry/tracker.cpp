@@ -66,6 +66,13 @@ void validate(const TrackerOptions& options) {
   if (method == Method::kFixed && !(options.policy.lambda >= 0.0 && std::isfinite(options.policy.lambda))) {
     throw Error("fixed lambda must be finite and >= 0, got " + std::to_string(options.policy.lambda));
   }
+  if (options.first_frame < 0) {
+    throw Error("first frame must be >= 0, got " + std::to_string(options.first_frame));
+  }
+  if (options.max_frames == 0 || options.max_frames == 1 || options.max_frames < -1) {
+    throw Error("max frames must be at least 2 (one frame pair) or -1 for all, got " +
+                std::to_string(options.max_frames));
+  }
 }
 
 PreparedFrame prepare_frame(const RgbdImage& image, const Intrinsics& K, int levels) {
@@ -183,32 +190,40 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
-  so.max_frames = options.max_frames;
   const TumSequence seq = open_tum_sequence(directory, so);
+  const int total = static_cast<int>(seq.frames.size());
+  const int first_index = options.first_frame;
+  if (first_index + 1 >= total) {
+    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
+                std::to_string(first_index) + " leaves fewer than 2 to process");
+  }
+  const int end = options.max_frames < 0 ? total : std::min(total, first_index + options.max_frames);
 
   TrackResult out;
   out.sequence = seq.name;
   out.intrinsics = seq.intrinsics;
 
   auto t_load = Clock::now();
-  const RgbdImage first = load_rgbd_image(seq.frames[0]);
+  const RgbdImage first = load_rgbd_image(seq.frames[first_index]);
   const int width = first.width, height = first.height;
   double load_seconds = seconds_since(t_load);
+  out.load_seconds += load_seconds;
   auto t_prep = Clock::now();
   PreparedFrame reference = prepare_frame(first, seq.intrinsics, options.levels);
   out.profile.add("pyramid", seconds_since(t_prep));
 
   Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
   if (options.start_at_groundtruth && seq.groundtruth) {
-    if (const auto T0 = interpolate_pose(*seq.groundtruth, seq.frames[0].rgb_time)) T_w_ref = *T0;
+    if (const auto T0 = interpolate_pose(*seq.groundtruth, seq.frames[first_index].rgb_time)) T_w_ref = *T0;
   }
-  out.trajectory.push_back({seq.frames[0].rgb_time, T_w_ref});
+  out.trajectory.push_back({seq.frames[first_index].rgb_time, T_w_ref});
 
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
-  for (std::size_t k = 1; k < seq.frames.size(); ++k) {
+  for (int k = first_index + 1; k < end; ++k) {
     t_load = Clock::now();
     const RgbdImage image = load_rgbd_image(seq.frames[k], width, height);
     load_seconds = seconds_since(t_load);
+    out.load_seconds += load_seconds;
 
     t_prep = Clock::now();
     PreparedFrame current = prepare_frame(image, seq.intrinsics, options.levels);
@@ -217,7 +232,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     const Eigen::Isometry3d prior =
         options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
     PairResult pair = estimate_motion(reference, current, prior, options);
-    pair.index = static_cast<int>(k) - 1;
+    pair.index = k - 1;
     pair.profile.add("pyramid", prep_seconds);
     pair.seconds += prep_seconds;
     pair.load_seconds = load_seconds;

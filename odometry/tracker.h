@@ -57,7 +57,8 @@ struct TrackerOptions {
   RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion
   double max_association_dt = 0.02; // seconds
   std::optional<Intrinsics> intrinsics;  // override of the sequence-name preset
-  int max_frames = -1;              // -1: whole sequence
+  int first_frame = 0;              // index of the first associated frame processed
+  int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
   int verbosity = 0;                // passed to the solver
 };
@@ -102,11 +103,14 @@ struct TrackResult {
   Intrinsics intrinsics;
   Trajectory trajectory;                 // one pose per frame, T_wc
   std::vector<PairResult> pairs;
-  solvers::PhaseProfile profile;         // summed over pairs
+  solvers::PhaseProfile profile;         // summed over pairs (plus the first frame's pyramid)
   int invalid_pairs = 0;
+  double load_seconds = 0.0;             // PNG decoding, all frames (not part of any pair)
 };
 
-// Streams the sequence in `directory`, calling on_pair after each pair.
+// Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
+// calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
+// frames (naming the sequence's frame count).
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair = {});
 

@@ -17,12 +17,15 @@
 #include "odometry/rgbd_pyramid.h"
 #include "odometry/tum_dataset.h"
 #include "solvers/error.h"
+#include "tests/test_support.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
 namespace fs = std::filesystem;
 
 namespace {
+
+using bivo::testing::error_of;
 
 std::string fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("bivo_odometry_data_" + std::to_string(::getpid())) / name;
@@ -33,16 +36,6 @@ std::string fresh_dir(const std::string& name) {
 }
 
 void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // A tiny valid sequence: n frames of w x h, rgb at t = 1 + 0.1 k, depth 5 ms later.
 std::string make_sequence(const std::string& name, int n, int w = 16, int h = 12) {

@@ -11,6 +11,7 @@
 
 #include "odometry/png_io.h"
 #include "solvers/error.h"
+#include "tests/test_support.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
@@ -18,20 +19,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using bivo::testing::error_of;
+
 std::string temp_dir() {
   const fs::path dir = fs::temp_directory_path() / ("bivo_png_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir.string();
-}
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace

@@ -11,24 +11,17 @@
 #include "odometry/tracker.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
+#include "tests/test_support.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
 
 namespace {
 
+using bivo::testing::error_of;
+
 const std::string kData = std::string(BIVO_SHARED_DIR) + "/data/tum/";
 bool have_data() { return std::filesystem::exists(kData + "rgbd_dataset_freiburg1_desk"); }
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 
