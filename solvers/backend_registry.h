@@ -9,11 +9,10 @@
 //   exact           step           epsilon-constraint   exact one-constraint QCQP step, eq. `QCQP`
 //   ceres           whole problem  weighted sum         Ceres trust region over the manifold
 //   ipm-full        step           epsilon-constraint   (issue 5) own IPM on eq. `SOCP in our method`
-//   ipm-compressed  step           epsilon-constraint   (issue 5) own IPM, cones compressed to 8
+//   ipm-compressed  step           epsilon-constraint   (issue 5) own IPM, cones compressed to dimension 7
 //   ipopt           step           epsilon-constraint   (issue 5) Ipopt on the QCQP step
 //   nlopt           step           epsilon-constraint   (issue 5) NLopt SLSQP on the QCQP step
 //   ipopt-nlp       whole problem  epsilon-constraint   (issue 5) Ipopt on eq. `bounded objective form`
-// The issue-5 names exist only once their owner registers them in backend_registry.cpp.
 #include <functional>
 #include <memory>
 #include <string>
