@@ -38,17 +38,6 @@ void check_epsilon(double epsilon) {
   }
 }
 
-QcqpConeStep infeasible_step(const QuadraticModel& m2) {
-  // epsilon below min m2: the closest we can get is m2's (minimum-norm) minimizer.
-  const ConeFactor f = factor_from_model(m2);
-  QcqpConeStep s;
-  s.delta = -f.R.completeOrthogonalDecomposition().solve(f.c);
-  s.mu = std::numeric_limits<double>::infinity();
-  s.feasible = false;
-  s.status = "infeasible: epsilon <= min m2";
-  return s;
-}
-
 // The step and mu from an IPM solution of either form. e1 = residual of objective 1 in the
 // cone, radius = the second cone's head (sqrt(eps) or sqrt(eps - floor2)).
 QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e1_norm_at_d, double radius,
@@ -208,6 +197,27 @@ QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, c
   const Eigen::VectorXd d = r.x.tail(dim);
   const double e1 = (f1.R * d + f1.c).norm();
   return read_solution(r, dim, dim + 1, e1, std::sqrt(epsilon - f2.floor), m2);
+}
+
+QcqpConeStep infeasible_step(const QuadraticModel& m2) {
+  // epsilon below min m2: the closest we can get is m2's (minimum-norm) minimizer.
+  const ConeFactor f = factor_from_model(m2);
+  QcqpConeStep s;
+  s.delta = -f.R.completeOrthogonalDecomposition().solve(f.c);
+  s.mu = std::numeric_limits<double>::infinity();
+  s.feasible = false;
+  s.status = "infeasible: epsilon <= min m2";
+  return s;
+}
+
+StepResult to_step_result(const QcqpConeStep& s) {
+  StepResult r;
+  r.delta = s.delta;
+  r.multiplier = s.mu;
+  r.feasible = s.feasible;
+  r.iterations = s.iterations;
+  r.status = s.status;
+  return r;
 }
 
 }  // namespace bivo::solvers::conic

@@ -16,6 +16,7 @@
 #include "solvers/conic/ipm_solver.h"
 #include "solvers/conic/problem_data.h"
 #include "solvers/problem.h"
+#include "solvers/step_backend.h"
 
 namespace bivo::solvers::conic {
 
@@ -56,5 +57,11 @@ QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, con
                              double epsilon, const IpmSettings& settings = step_ipm_settings());
 QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2,
                                    double epsilon, const IpmSettings& settings = step_ipm_settings());
+
+// epsilon <= min m2: m2's minimum-norm minimizer, mu = +inf, flagged infeasible (every
+// epsilon-constraint backend answers an infeasible bound this same way, without a solver call).
+QcqpConeStep infeasible_step(const QuadraticModel& m2);
+
+StepResult to_step_result(const QcqpConeStep& s);
 
 }  // namespace bivo::solvers::conic

@@ -14,13 +14,7 @@ StepResult IpmFullBackend::solve(const Subproblem& sp) {
     throw Error("ipm-full: the linearization has no full residuals/Jacobians (LinearizeOptions::want_full)");
   }
   const conic::QcqpConeStep s = conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_);
-  StepResult r;
-  r.delta = s.delta;
-  r.multiplier = s.mu;
-  r.feasible = s.feasible;
-  r.iterations = s.iterations;
-  r.status = s.status;
-  return r;
+  return conic::to_step_result(s);
 }
 
 }  // namespace bivo::solvers

@@ -105,15 +105,10 @@ StepResult IpoptQcqpBackend::solve(const Subproblem& sp) {
   }
   const Linearization& lin = *sp.lin;
   const conic::ScaledQcqp q = conic::scale_qcqp(lin.f1, lin.f2, sp.epsilon);
-  StepResult r;
-  const conic::ConeFactor f2 = conic::factor_from_model(lin.f2);
-  if (sp.epsilon <= f2.floor) {
-    r.delta = -f2.R.completeOrthogonalDecomposition().solve(f2.c);
-    r.multiplier = std::numeric_limits<double>::infinity();
-    r.feasible = false;
-    r.status = "infeasible: epsilon <= min m2";
-    return r;
+  if (sp.epsilon <= conic::factor_from_model(lin.f2).floor) {
+    return conic::to_step_result(conic::infeasible_step(lin.f2));
   }
+  StepResult r;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
