@@ -11,6 +11,7 @@
 
 #include "problems/exponential_decay_pair.h"
 #include "problems/linear_least_squares_pair.h"
+#include "problems/point_alignment_pair.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
 #include "solvers/outer_loop.h"
@@ -19,76 +20,13 @@
 using namespace bivo;
 using bivo::problems::ExponentialDecayPair;
 using bivo::problems::LinearLeastSquaresPair;
+using bivo::problems::PointAlignmentPair;
 
 namespace {
 
 double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
   return (got - want).norm() / std::max(1.0, want.norm());
 }
-
-// SE(3) test instance: F_j = sum_i |T p_ji - q_ji|^2 with q_1 = T_a p_1, q_2 = T_b p_2 (+ noise),
-// so the two objectives pull towards different poses. x = [t; q] (Se3Manifold).
-class PointAlignmentPair final : public solvers::BiObjectiveProblem {
- public:
-  explicit PointAlignmentPair(std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> g(0.0, 1.0);
-    solvers::se3::Vector6d xa, xb;
-    for (int k = 0; k < 6; ++k) {
-      xa(k) = 0.3 * g(rng);
-      xb(k) = xa(k) + 0.05 * g(rng);
-    }
-    const Eigen::Isometry3d Ta = solvers::se3::exp(xa), Tb = solvers::se3::exp(xb);
-    for (int j = 0; j < 2; ++j) {
-      p_[j].resize(3, 15);
-      q_[j].resize(3, 15);
-      for (int i = 0; i < 15; ++i) {
-        p_[j].col(i) = Eigen::Vector3d(g(rng), g(rng), g(rng) + 3.0);
-        q_[j].col(i) = (j == 0 ? Ta : Tb) * Eigen::Vector3d(p_[j].col(i)) + 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
-      }
-    }
-  }
-  std::string name() const override { return "SE(3) point alignment pair"; }
-  const solvers::Manifold& manifold() const override { return manifold_; }
-  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) override {
-    const Eigen::Isometry3d T = solvers::se3::from_ambient(x);
-    solvers::ResidualData d;
-    const auto& P = p_[j - 1];
-    d.r.resize(3 * P.cols());
-    d.w = Eigen::VectorXd::Ones(3 * P.cols());
-    if (with_jacobian) d.J.resize(3 * P.cols(), 6);
-    for (int i = 0; i < P.cols(); ++i) {
-      const Eigen::Vector3d Tp = T * Eigen::Vector3d(P.col(i));
-      d.r.segment<3>(3 * i) = Tp - q_[j - 1].col(i);
-      if (with_jacobian) {
-        d.J.block<3, 3>(3 * i, 0).setIdentity();
-        d.J.block<3, 3>(3 * i, 3) = -solvers::se3::hat(Tp);  // d(exp(d) T p)/dw at d = 0
-      }
-    }
-    return d;
-  }
-  solvers::Linearization linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions&) override {
-    solvers::Linearization lin;
-    const auto model = [&](int j) {
-      const auto d = residuals(j, x, true);
-      solvers::QuadraticModel m;
-      m.a = d.r.squaredNorm();
-      m.b = d.J.transpose() * d.r;
-      m.H = d.J.transpose() * d.J;
-      return m;
-    };
-    lin.f1 = model(1);
-    lin.f2 = model(2);
-    return lin;
-  }
-  std::array<double, 2> evaluate(const Eigen::VectorXd& x) override {
-    return {residuals(1, x, false).r.squaredNorm(), residuals(2, x, false).r.squaredNorm()};
-  }
-
- private:
-  Eigen::Matrix3Xd p_[2], q_[2];
-  solvers::Se3Manifold manifold_;
-};
 
 // Robust (IRLS) instance: F_j = sum_i w_ji r_ji^2, r_j = A_j x - y_j with outliers, weights
 // re-estimated by linearize() as Cauchy weights w = 1 / (1 + (r / c)^2) at the current x.
