@@ -85,16 +85,8 @@ solvers::Linearization ExponentialDecayPair::linearize(const Eigen::VectorXd& x,
   solvers::Linearization lin;
   {
     solvers::ScopedPhase phase(options.profile, "normal_equations");
-    const auto model = [](const solvers::ResidualData& d) {
-      solvers::QuadraticModel m;
-      const Eigen::VectorXd wr = d.w.cwiseProduct(d.r);
-      m.a = d.r.dot(wr);
-      m.b = d.J.transpose() * wr;
-      m.H = d.J.transpose() * d.w.asDiagonal() * d.J;
-      return m;
-    };
-    lin.f1 = model(d1);
-    lin.f2 = model(d2);
+    lin.f1 = solvers::quadratic_model_of(d1);
+    lin.f2 = solvers::quadratic_model_of(d2);
   }
   if (options.want_full) {
     lin.full1 = std::move(d1);

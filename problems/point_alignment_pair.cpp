@@ -51,16 +51,8 @@ solvers::ResidualData PointAlignmentPair::residuals(int j, const Eigen::VectorXd
 
 solvers::Linearization PointAlignmentPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions&) {
   solvers::Linearization lin;
-  const auto model = [&](int j) {
-    const auto d = residuals(j, x, true);
-    solvers::QuadraticModel m;
-    m.a = d.r.squaredNorm();
-    m.b = d.J.transpose() * d.r;
-    m.H = d.J.transpose() * d.J;
-    return m;
-  };
-  lin.f1 = model(1);
-  lin.f2 = model(2);
+  lin.f1 = solvers::quadratic_model_of(residuals(1, x, true));
+  lin.f2 = solvers::quadratic_model_of(residuals(2, x, true));
   return lin;
 }
 

@@ -98,7 +98,7 @@ TEST(SocpBackends, RankDeficientModelsWorkFromGramData) {
   // Objective 1 sees only translation (rotation columns zero): H1 singular.
   conic::SyntheticStep s = conic::make_synthetic_step(600, 5, 0.4);
   s.lin.full1->J.rightCols(3).setZero();
-  s.lin.f1 = conic::model_from_residuals(*s.lin.full1);
+  s.lin.f1 = quadratic_model_of(*s.lin.full1);
   const ExactQcqpResult ex = solve_qcqp_exact(s.lin.f1, s.lin.f2, s.epsilon);
   Linearization models_only = s.lin;
   models_only.full1.reset();

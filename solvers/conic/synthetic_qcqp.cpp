@@ -7,15 +7,6 @@
 
 namespace bivo::solvers::conic {
 
-QuadraticModel model_from_residuals(const ResidualData& d) {
-  QuadraticModel m;
-  const Eigen::MatrixXd WJ = d.w.asDiagonal() * d.J;
-  m.a = d.r.dot(d.w.cwiseProduct(d.r));
-  m.b = WJ.transpose() * d.r;
-  m.H = d.J.transpose() * WJ;
-  return m;
-}
-
 SyntheticStep make_synthetic_step(int n, std::uint32_t seed, double active_fraction) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
@@ -58,8 +49,8 @@ SyntheticStep make_synthetic_step(int n, std::uint32_t seed, double active_fract
     f2.w[i] = 1.0 / (0.01 * Z * 0.01 * Z);
   }
   SyntheticStep s;
-  s.lin.f1 = model_from_residuals(f1);
-  s.lin.f2 = model_from_residuals(f2);
+  s.lin.f1 = quadratic_model_of(f1);
+  s.lin.f2 = quadratic_model_of(f2);
   s.lin.full1 = std::move(f1);
   s.lin.full2 = std::move(f2);
   // Active constraint: between min m2 and m2 at the unconstrained minimizer of m1.

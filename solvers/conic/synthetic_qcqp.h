@@ -18,7 +18,4 @@ struct SyntheticStep {
 
 SyntheticStep make_synthetic_step(int n, std::uint32_t seed, double active_fraction = 0.3);
 
-// Models a = r^T W r, b = J^T W r, H = J^T W J of full data.
-QuadraticModel model_from_residuals(const ResidualData& data);
-
 }  // namespace bivo::solvers::conic
