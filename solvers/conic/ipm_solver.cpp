@@ -55,7 +55,8 @@ class Solver {
     KktSettings ks;
     ks.static_regularization = st_.static_regularization;
     ks.max_refinement_steps = st_.max_refinement_steps;
-    kkt_ = std::make_unique<KktSystem>(sp_.A, sp_.G, *cones_, ks);
+    gmat_ = std::make_unique<ConstraintMatrix>(sp_.G);
+    kkt_ = std::make_unique<KktSystem>(sp_.A, *gmat_, *cones_, ks);
     n_ = n;
     p_ = sp_.num_equalities();
     m_ = sp_.num_cone_rows();
@@ -67,7 +68,8 @@ class Solver {
 
  private:
   bool initialize();
-  bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d);
+  // refine = false for the predictor: it only sets sigma and the second-order term.
+  bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine = true);
   double max_step(const Direction& d) const;
   IpmResult finish(IpmStatus status, const Variables& v, int iterations);
   // Numerical trouble or the iteration limit: like ECOS, accept the best iterate at the
@@ -75,7 +77,7 @@ class Solver {
   IpmResult stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
     if (st_.log) *st_.log << "stopped: " << where << "\n";
     v_ = best;
-    compute_residuals(sp_, op_, eq_, v_, r_);
+    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
     const IpmStatus verdict = classify(r_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate);
     IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
     res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
@@ -95,6 +97,7 @@ class Solver {
   ConicProblem sp_;
   Equilibration eq_;
   std::unique_ptr<ConeProduct> cones_;
+  std::unique_ptr<ConstraintMatrix> gmat_;
   std::unique_ptr<KktSystem> kkt_;
   int n_ = 0, p_ = 0, m_ = 0;
   Eigen::VectorXd cbh_;  // [-c; b; h]: the tau column of the embedding
@@ -102,6 +105,7 @@ class Solver {
   Residuals r_;
   NtScaling w_;
   Eigen::VectorXd lambda_, x1_;  // x1_ = K^{-1} [-c; b; h]
+  Eigen::VectorXd trial_s_, trial_z_;
   double denom_ = 0.0;           // kappa/tau + ||W z1||^2, minus the kappa/tau part
 };
 
@@ -130,13 +134,13 @@ bool Solver::initialize() {
   return v_.x.allFinite() && v_.y.allFinite() && v_.z.allFinite() && v_.s.allFinite();
 }
 
-bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d) {
+bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine) {
   const double f = 1.0 - sigma;
   Eigen::VectorXd wbs;
   cones_->apply_w(w_, bs, wbs);
   Eigen::VectorXd rhs(n_ + p_ + m_), sol;
   rhs << f * r_.rx, -f * r_.ry, -f * r_.rz - wbs;
-  if (!kkt_->solve(rhs, sol)) return false;
+  if (!kkt_->solve(rhs, sol, refine)) return false;
   const double tau = v_.tau, kappa = v_.kappa;
   const double den = kappa / tau + denom_;
   d.dtau = (f * r_.rtau + rk / tau + cbh_.tail(p_ + m_).dot(sol.tail(p_ + m_)) + sp_.c.dot(sol.head(n_))) / den;
@@ -191,9 +195,9 @@ IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
 void Solver::log_header() const {
   if (!st_.log) return;
   char buf[256];
-  std::snprintf(buf, sizeof buf, "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), KKT %d x %d, L nnz %ld\n",
-                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_->expanded_size(),
-                kkt_->expanded_size(), kkt_->factor_nonzeros());
+  std::snprintf(buf, sizeof buf, "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), reduced KKT %d x %d, L nnz %ld\n",
+                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_->reduced_size(),
+                kkt_->reduced_size(), kkt_->factor_nonzeros());
   *st_.log << buf;
   *st_.log << "iter      pcost        dcost       gap     pres     dres     k/t       mu     step   sigma  ref\n";
 }
@@ -210,14 +214,14 @@ void Solver::log_iteration(int k, const Residuals& r, double mu, double step, do
 IpmResult Solver::run() {
   log_header();
   if (!initialize()) {
-    compute_residuals(sp_, op_, eq_, v_, r_);
+    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
     return finish(IpmStatus::kNumericalTrouble, v_, 0);
   }
   last_good_ = v_;
   double step = 0.0, sigma = 0.0;
   const Eigen::VectorXd e = cones_->identity();
   for (int k = 0;; ++k) {
-    compute_residuals(sp_, op_, eq_, v_, r_);
+    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
     const double mu = (v_.s.dot(v_.z) + v_.tau * v_.kappa) / (cones_->degree() + 1);
     log_iteration(k, r_, mu, step, sigma);
     if (!std::isfinite(r_.primal_residual) || !std::isfinite(r_.dual_residual) || !std::isfinite(mu)) {
@@ -248,7 +252,7 @@ IpmResult Solver::run() {
     // Predictor (affine scaling): sigma = 0, target lambda o lambda -> 0.
     Direction aff, cor;
     const Eigen::VectorXd bs_aff = -lambda_;
-    if (!direction(0.0, bs_aff, -v_.kappa * v_.tau, aff)) return trouble("predictor", k);
+    if (!direction(0.0, bs_aff, -v_.kappa * v_.tau, aff, false)) return trouble("predictor", k);
     const double a_aff = std::min(1.0, max_step(aff));
     sigma = std::clamp(std::pow(1.0 - a_aff, 3), 1e-4, 1.0);
     // Corrector: centering sigma mu plus Mehrotra's second-order term.
@@ -265,18 +269,19 @@ IpmResult Solver::run() {
     // Rounding can push s or z out of K by a hair near the boundary: back off if so.
     bool moved = false;
     for (int tries = 0; tries < 20 && step > 1e-12; ++tries, step *= 0.5) {
-      Variables nv = v_;
-      nv.x += step * cor.dx;
-      nv.y += step * cor.dy;
-      nv.z += step * cor.dz;
-      nv.s += step * ds;
-      nv.tau += step * cor.dtau;
-      nv.kappa += step * cor.dkappa;
-      if ((m_ == 0 || (cones_->interior(nv.s) && cones_->interior(nv.z))) && nv.tau > 0.0 && nv.kappa > 0.0) {
-        v_ = std::move(nv);
-        moved = true;
-        break;
-      }
+      const double tau = v_.tau + step * cor.dtau, kappa = v_.kappa + step * cor.dkappa;
+      if (!(tau > 0.0 && kappa > 0.0)) continue;
+      trial_s_ = v_.s + step * ds;
+      trial_z_ = v_.z + step * cor.dz;
+      if (m_ > 0 && !(cones_->interior(trial_s_) && cones_->interior(trial_z_))) continue;
+      v_.x += step * cor.dx;
+      v_.y += step * cor.dy;
+      v_.s.swap(trial_s_);
+      v_.z.swap(trial_z_);
+      v_.tau = tau;
+      v_.kappa = kappa;
+      moved = true;
+      break;
     }
     if (!moved) return trouble("step", k);
   }

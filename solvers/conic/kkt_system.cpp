@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 extern "C" {
 #include <camd.h>
@@ -12,148 +13,273 @@ extern "C" {
 
 namespace bivo::solvers::conic {
 
-KktSystem::KktSystem(const SparseMatrix& A, const SparseMatrix& G, const ConeProduct& cones,
-                     KktSettings settings)
-    : A_(A), G_(G), cones_(cones), settings_(settings) {
+namespace {
+
+// q-hat = q1 / ||q1|| of a cone's scaling, or 0 when q1 = 0 (then c+ = c- = 0 and the
+// expansion columns decouple; any unit vector would do).
+bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
+
+}  // namespace
+
+KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings)
+    : A_(A), G_(Gm), cones_(cones), settings_(settings) {
+  const SparseMatrix& G = Gm.sparse();
   n_ = static_cast<int>(std::max(A.cols(), G.cols()));
   p_ = static_cast<int>(A.rows());
   m_ = static_cast<int>(G.rows());
-  const int nsoc = cones.soc_count();
-  N_ = n_ + p_ + m_ + 2 * nsoc;
-  delta_ = settings_.static_regularization;
+  nsoc_ = cones.soc_count();
+  R_ = n_ + p_ + 2 * nsoc_;
+  const int l = cones.spec().nonnegative;
+  cone_of_row_.assign(m_, -1);
+  for (int k = 0; k < nsoc_; ++k) {
+    for (int i = 0; i < cones.spec().soc[k]; ++i) cone_of_row_[cones.soc_offset(k) + i] = k;
+  }
+  const int pk0 = n_ + p_;  // p_k = pk0 + 2k, q_k = pk0 + 2k + 1
 
-  const SparseMatrix At = A.transpose();
-  const SparseMatrix Gt = G.transpose();
-  std::vector<int> cone_of_row(m_, -1);
-  for (int k = 0; k < nsoc; ++k) {
-    for (int i = 0; i < cones.spec().soc[k]; ++i) cone_of_row[cones.soc_offset(k) + i] = k;
-  }
-  zdiag_.assign(m_, -1);
-  zp_.assign(m_, -1);
-  zq_.assign(m_, -1);
-  pcol_.assign(nsoc, -1);
-  qcol_.assign(nsoc, -1);
-
-  Kp_.assign(N_ + 1, 0);
-  Ki_.clear();
-  Kx_.clear();
-  auto push = [&](int row, double v) {
-    Ki_.push_back(row);
-    Kx_.push_back(v);
-  };
-  int col = 0;
-  for (int j = 0; j < n_; ++j, ++col) {  // x columns: diagonal, A(:, j), G(:, j)
-    Kp_[col] = static_cast<int>(Ki_.size());
-    push(j, 0.0);
-    if (j < A.cols()) {
-      for (SparseMatrix::InnerIterator it(A, j); it; ++it) push(n_ + static_cast<int>(it.row()), it.value());
-    }
-    if (j < G.cols()) {
-      for (SparseMatrix::InnerIterator it(G, j); it; ++it) push(n_ + p_ + static_cast<int>(it.row()), it.value());
-    }
-  }
-  for (int i = 0; i < p_; ++i, ++col) {  // y columns: A(i, :)^T, diagonal
-    Kp_[col] = static_cast<int>(Ki_.size());
-    for (SparseMatrix::InnerIterator it(At, i); it; ++it) push(static_cast<int>(it.row()), it.value());
-    push(n_ + i, 0.0);
-  }
-  for (int r = 0; r < m_; ++r, ++col) {  // z columns: G(r, :)^T, diagonal, (p_k, q_k)
-    Kp_[col] = static_cast<int>(Ki_.size());
-    for (SparseMatrix::InnerIterator it(Gt, r); it; ++it) push(static_cast<int>(it.row()), it.value());
-    zdiag_[r] = static_cast<int>(Ki_.size());
-    push(n_ + p_ + r, 0.0);
-    if (cone_of_row[r] >= 0) {
-      const int k = cone_of_row[r];
-      zp_[r] = static_cast<int>(Ki_.size());
-      push(n_ + p_ + m_ + 2 * k, 0.0);
-      zq_[r] = static_cast<int>(Ki_.size());
-      push(n_ + p_ + m_ + 2 * k + 1, 0.0);
-    }
-  }
-  for (int k = 0; k < nsoc; ++k) {  // p_k then q_k: the cone's z rows, diagonal
+  // G_k^T G_k per cone (constant: the z pivots of cone k are all -beta_k^2), the orthant
+  // rows' outer products, and the columns each cone couples to.
+  const RowMajorMatrix Gr = G;
+  std::vector<SparseMatrix> gram(nsoc_);
+  std::vector<std::vector<int>> couple(nsoc_);
+  for (int k = 0; k < nsoc_; ++k) {
     const int o = cones.soc_offset(k), d = cones.spec().soc[k];
-    for (int which = 0; which < 2; ++which, ++col) {
-      Kp_[col] = static_cast<int>(Ki_.size());
-      (which == 0 ? pcol_ : qcol_)[k] = static_cast<int>(Ki_.size());
-      for (int i = 0; i < d; ++i) push(n_ + p_ + o + i, 0.0);
-      push(col, which == 0 ? -1.0 : 1.0);
+    const SparseMatrix Gk = Gr.middleRows(o, d);
+    gram[k] = SparseMatrix(Gk.transpose()) * Gk;
+    for (int j = 0; j < Gk.outerSize(); ++j) {
+      if (Gk.col(j).nonZeros() > 0) couple[k].push_back(j);
     }
   }
-  Kp_[N_] = static_cast<int>(Ki_.size());
 
-  // Fill-reducing ordering once (the pattern never changes), constrained to eliminate the
-  // z rows first, then x and y, then the expansion columns p, q: z pivots are then exactly
-  // -beta^2 or -s/z, and the nearly singular direction of W^2 (eigenvalue beta^2 (q0-||q1||)^2)
-  // is formed in the p pivot as -1 + 2 c- instead of as a difference of O(c+) fill terms.
-  std::vector<int> constraint(N_, 1);
-  for (int r = 0; r < m_; ++r) constraint[n_ + p_ + r] = 0;
-  for (int j = n_ + p_ + m_; j < N_; ++j) constraint[j] = 2;
-  P_.assign(N_, 0);
-  Pinv_.assign(N_, 0);
+  std::vector<std::pair<int, int>> entries;  // (col, row), both triangles
+  auto add = [&](int r, int c) {
+    entries.emplace_back(c, r);
+    if (r != c) entries.emplace_back(r, c);
+  };
+  for (int j = 0; j < R_; ++j) add(j, j);
+  for (int j = 0; j < A.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) add(j, n_ + static_cast<int>(it.row()));
+  }
+  for (int k = 0; k < nsoc_; ++k) {
+    for (int j = 0; j < gram[k].outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(gram[k], j); it; ++it) {
+        if (it.row() <= j) add(static_cast<int>(it.row()), j);
+      }
+    }
+    for (int j : couple[k]) {
+      add(j, pk0 + 2 * k);
+      add(j, pk0 + 2 * k + 1);
+    }
+  }
+  for (int r = 0; r < l; ++r) {
+    for (RowMajorMatrix::InnerIterator a(Gr, r); a; ++a) {
+      for (RowMajorMatrix::InnerIterator b(Gr, r); b; ++b) {
+        if (a.col() <= b.col()) add(static_cast<int>(a.col()), static_cast<int>(b.col()));
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  Kp_.assign(R_ + 1, 0);
+  Ki_.resize(entries.size());
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    ++Kp_[entries[e].first + 1];
+    Ki_[e] = entries[e].second;
+  }
+  for (int j = 0; j < R_; ++j) Kp_[j + 1] += Kp_[j];
+  Kx_.assign(Ki_.size(), 0.0);
+  mirror_.resize(Ki_.size());
+  for (int j = 0; j < R_; ++j) {
+    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = slot(j, Ki_[s]);
+  }
+
+  // Constant values: +-delta and A; then the lists updated per factorization.
+  base_.assign(Ki_.size(), 0.0);
+  const double delta = settings_.static_regularization;
+  for (int j = 0; j < n_; ++j) base_[slot(j, j)] = delta;
+  for (int i = 0; i < p_; ++i) base_[slot(n_ + i, n_ + i)] = -delta;
+  for (int j = 0; j < A.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) base_[slot(j, n_ + static_cast<int>(it.row()))] += it.value();
+  }
+  for (int k = 0; k < nsoc_; ++k) {
+    for (int j = 0; j < gram[k].outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(gram[k], j); it; ++it) {
+        if (it.row() > j) continue;
+        soc_slot_.push_back(slot(static_cast<int>(it.row()), j));
+        soc_cone_.push_back(k);
+        soc_val_.push_back(it.value());
+      }
+    }
+  }
+  for (int r = 0; r < l; ++r) {
+    for (RowMajorMatrix::InnerIterator a(Gr, r); a; ++a) {
+      for (RowMajorMatrix::InnerIterator b(Gr, r); b; ++b) {
+        if (a.col() > b.col()) continue;
+        orth_slot_.push_back(slot(static_cast<int>(a.col()), static_cast<int>(b.col())));
+        orth_row_.push_back(r);
+        orth_val_.push_back(a.value() * b.value());
+      }
+    }
+  }
+  couple_begin_.assign(nsoc_ + 1, 0);
+  for (int k = 0; k < nsoc_; ++k) {
+    const int o = cones.soc_offset(k);
+    for (int j : couple[k]) {
+      couple_col_.push_back(j);
+      couple_p_slot_.push_back(slot(j, pk0 + 2 * k));
+      couple_q_slot_.push_back(slot(j, pk0 + 2 * k + 1));
+      head_row_.push_back(G.coeff(o, j));
+    }
+    couple_begin_[k + 1] = static_cast<int>(couple_col_.size());
+    p_diag_.push_back(slot(pk0 + 2 * k, pk0 + 2 * k));
+    q_diag_.push_back(slot(pk0 + 2 * k + 1, pk0 + 2 * k + 1));
+  }
+  gq_.resize(static_cast<Eigen::Index>(couple_col_.size()));
+  // Each nonzero of G below a cone's head adds to that cone's G^T q-hat at its column.
+  gq_target_.assign(G.nonZeros(), -1);
+  for (int k = 0; k < nsoc_; ++k) {
+    const int o = cones.soc_offset(k), d = cones.spec().soc[k];
+    for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) {
+      const int j = couple_col_[c];
+      for (int e = G.outerIndexPtr()[j]; e < G.outerIndexPtr()[j + 1]; ++e) {
+        const int r = G.innerIndexPtr()[e];
+        if (r > o && r < o + d) gq_target_[e] = c;
+      }
+    }
+  }
+  qhat_ = Eigen::VectorXd::Zero(m_);
+  inv_d_.assign(m_, 1.0);
+  scale_p_.assign(nsoc_, 0.0);
+  scale_q_.assign(nsoc_, 0.0);
+
+  // Fill-reducing ordering once (the pattern never changes), x and y before p and q.
+  std::vector<int> constraint(R_, 0);
+  for (int j = pk0; j < R_; ++j) constraint[j] = 1;
+  P_.assign(R_, 0);
+  Pinv_.assign(R_, 0);
   double control[CAMD_CONTROL], info[CAMD_INFO];
   camd_defaults(control);
-  const int status = camd_order(N_, Kp_.data(), Ki_.data(), P_.data(), control, info, constraint.data());
+  const int status = camd_order(R_, Kp_.data(), Ki_.data(), P_.data(), control, info, constraint.data());
   if (status != CAMD_OK && status != CAMD_OK_BUT_JUMBLED) {
     throw Error("conic KKT: CAMD ordering failed (status " + std::to_string(status) + ", size " +
-                std::to_string(N_) + ")");
+                std::to_string(R_) + ")");
   }
-  for (int k = 0; k < N_; ++k) Pinv_[P_[k]] = k;
-  sign_.assign(N_, -1.0);
+  for (int k = 0; k < R_; ++k) Pinv_[P_[k]] = k;
+  sign_.assign(R_, -1.0);
   for (int j = 0; j < n_; ++j) sign_[j] = 1.0;
-  for (int k = 0; k < nsoc; ++k) sign_[n_ + p_ + m_ + 2 * k + 1] = 1.0;
-  Lp_.assign(N_ + 1, 0);
-  Parent_.assign(N_, 0);
-  Lnz_.assign(N_, 0);
-  Flag_.assign(N_, 0);
-  Pattern_.assign(N_, 0);
-  ldl_symbolic(N_, Kp_.data(), Ki_.data(), Lp_.data(), Parent_.data(), Lnz_.data(), Flag_.data(),
-               P_.data(), Pinv_.data());
-  Li_.assign(std::max(Lp_[N_], 1), 0);
-  Lx_.assign(std::max(Lp_[N_], 1), 0.0);
-  D_.assign(N_, 0.0);
-  Y_.assign(N_, 0.0);
-  work_.resize(N_);
-  work2_.resize(N_);
+  for (int k = 0; k < nsoc_; ++k) sign_[pk0 + 2 * k + 1] = 1.0;
+  Lp_.assign(R_ + 1, 0);
+  Parent_.assign(R_, 0);
+  Lnz_.assign(R_, 0);
+  Flag_.assign(R_, 0);
+  Pattern_.assign(R_, 0);
+  ldl_symbolic(R_, Kp_.data(), Ki_.data(), Lp_.data(), Parent_.data(), Lnz_.data(), Flag_.data(), P_.data(),
+               Pinv_.data());
+  Li_.assign(std::max(Lp_[R_], 1), 0);
+  Lx_.assign(std::max(Lp_[R_], 1), 0.0);
+  D_.assign(R_, 0.0);
+  Y_.assign(R_, 0.0);
+  red_.resize(R_);
+  red_perm_.resize(R_);
+}
+
+int KktSystem::slot(int row, int col) const {
+  const auto first = Ki_.begin() + Kp_[col], last = Ki_.begin() + Kp_[col + 1];
+  const auto it = std::lower_bound(first, last, row);
+  if (it == last || *it != row) throw Error("conic KKT: internal pattern error");
+  return static_cast<int>(it - Ki_.begin());
+}
+
+// A z pivot -w_i^2 or -beta_k^2 below the dynamic threshold is replaced by
+// -dynamic_regularization, as the sparse LDL of the unreduced matrix would do: otherwise
+// D^-1 ~ 1e18 swamps the x block (s -> 0 on an unbounded ray) and the refinement diverges.
+double KktSystem::z_pivot(double d) {
+  if (d > settings_.dynamic_threshold) return d;
+  ++dynamic_pivots_;
+  return settings_.dynamic_regularization;
 }
 
 bool KktSystem::factor(const NtScaling& w) {
   w_ = w;
+  dynamic_pivots_ = 0;
   const int l = cones_.spec().nonnegative;
-  for (int r = 0; r < l; ++r) Kx_[zdiag_[r]] = -w.orthant_w[r] * w.orthant_w[r];
-  for (int k = 0; k < cones_.soc_count(); ++k) {
+  for (int r = 0; r < l; ++r) inv_d_[r] = 1.0 / z_pivot(w.orthant_w[r] * w.orthant_w[r]);
+  Kx_ = base_;
+  for (std::size_t e = 0; e < orth_slot_.size(); ++e) Kx_[orth_slot_[e]] += orth_val_[e] * inv_d_[orth_row_[e]];
+  inv_b2_.resize(nsoc_);
+  for (int k = 0; k < nsoc_; ++k) {
     const SocScaling& sc = w.soc[k];
     const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-    const double b2 = sc.beta * sc.beta;
-    const double wb1_norm = sc.wb.tail(d - 1).norm();
-    const double bp = sc.beta * std::sqrt(sc.cplus), bm = sc.beta * std::sqrt(sc.cminus);
-    for (int i = 0; i < d; ++i) {
-      const int r = o + i;
-      // f = (1, qh), g = (1, -qh), qh = wb1 / ||wb1|| (any unit vector works when q1 = 0).
-      const double qh = (i == 0 || wb1_norm == 0.0) ? 0.0 : sc.wb[i] / wb1_norm;
-      const double vi = (i == 0 ? bm : -bm * qh);
-      const double ui = (i == 0 ? bp : bp * qh);
-      Kx_[zdiag_[r]] = -b2;
-      Kx_[zp_[r]] = vi;
-      Kx_[zq_[r]] = ui;
-      Kx_[pcol_[k] + i] = vi;
-      Kx_[qcol_[k] + i] = ui;
+    const double b2 = sc.beta * sc.beta, pivot = z_pivot(b2);
+    inv_b2_[k] = 1.0 / pivot;
+    for (int i = 0; i < d; ++i) inv_d_[o + i] = inv_b2_[k];
+    const bool unit = has_direction(sc, d);
+    if (unit) {
+      qhat_.segment(o + 1, d - 1) = sc.wb.tail(d - 1) / sc.wb.tail(d - 1).norm();
+    } else if (d > 1) {
+      qhat_.segment(o + 1, d - 1).setZero();
+    }
+    // V = beta sqrt(c-) g, U = beta sqrt(c+) f with g = (1, -qh), f = (1, qh): the couplings
+    // G^T D^-1 V = beta sqrt(c-) / pivot G^T g; the pivots -1 + c- ||g||^2 beta^2 / pivot and
+    // 1 + c+ ||f||^2 beta^2 / pivot, i.e. -(q0 - ||q1||)^2 and (q0 + ||q1||)^2 when
+    // ||qh|| = 1 and the pivot is beta^2, written so without cancellation.
+    scale_p_[k] = sc.beta * std::sqrt(sc.cminus) * inv_b2_[k];
+    scale_q_[k] = sc.beta * std::sqrt(sc.cplus) * inv_b2_[k];
+    const double sum = sc.q0 + sc.q1_norm, norm2 = unit ? 2.0 : 1.0;
+    if (unit && pivot == b2) {
+      Kx_[p_diag_[k]] = -1.0 / (sum * sum);
+      Kx_[q_diag_[k]] = sum * sum;
+    } else {
+      Kx_[p_diag_[k]] = -1.0 + sc.cminus * norm2 * b2 * inv_b2_[k];
+      Kx_[q_diag_[k]] = 1.0 + sc.cplus * norm2 * b2 * inv_b2_[k];
     }
   }
-  for (int j = 0; j < n_; ++j) Kx_[Kp_[j]] = delta_;
-  for (int i = 0; i < p_; ++i) Kx_[Kp_[n_ + i + 1] - 1] = -delta_;
+  for (std::size_t e = 0; e < soc_slot_.size(); ++e) Kx_[soc_slot_[e]] += soc_val_[e] * inv_b2_[soc_cone_[e]];
+  // G_k,tail^T q-hat for every coupled column, one pass over G's nonzeros.
+  // Column by column, accumulating in a register while the target stays the same (a cone's
+  // rows are contiguous), so no store-to-load chain through gq_.
+  gq_.setZero();
+  {
+    const SparseMatrix& G = G_.sparse();
+    const int* outer = G.outerIndexPtr();
+    const int* inner = G.innerIndexPtr();
+    const double* val = G.valuePtr();
+    for (int j = 0; j < G.outerSize(); ++j) {
+      int target = -1;
+      double acc = 0.0;
+      for (int e = outer[j]; e < outer[j + 1]; ++e) {
+        if (gq_target_[e] != target) {
+          if (target >= 0) gq_[target] += acc;
+          target = gq_target_[e];
+          acc = 0.0;
+        }
+        acc += val[e] * qhat_[inner[e]];
+      }
+      if (target >= 0) gq_[target] += acc;
+    }
+  }
+  for (int k = 0; k < nsoc_; ++k) {
+    for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) {
+      Kx_[couple_p_slot_[c]] = scale_p_[k] * (head_row_[c] - gq_[c]);
+      Kx_[couple_q_slot_[c]] = scale_q_[k] * (head_row_[c] + gq_[c]);
+    }
+  }
+  for (int j = 0; j < R_; ++j) {
+    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) {
+      if (Ki_[s] > j) Kx_[s] = Kx_[mirror_[s]];
+    }
+  }
   return numeric_with_dynamic_regularization();
 }
 
 // Up-looking LDL^T (row k of L from a sparse triangular solve along the elimination tree
 // computed by ldl_symbolic), the algorithm of SuiteSparse LDL plus the one thing it lacks:
 // dynamic regularization as in ECOS. A quasi-definite matrix has known pivot signs (x and q
-// positive; y, z and p negative); a pivot that rounding has driven to zero or to the wrong
+// positive; y and p negative); a pivot that rounding has driven to zero or to the wrong
 // sign (W^{-2} ~ 1e16 swamps delta in the x block near the end) is replaced by
 // sign * dynamic_regularization, and iterative refinement against the true matrix repairs
 // the perturbation.
 bool KktSystem::numeric_with_dynamic_regularization() {
-  const int n = N_;
-  dynamic_pivots_ = 0;
+  const int n = R_;
   for (int k = 0; k < n; ++k) {
     Y_[k] = 0.0;
     int top = n;
@@ -196,52 +322,102 @@ bool KktSystem::numeric_with_dynamic_regularization() {
   return true;
 }
 
-void KktSystem::ldl_solve(Eigen::VectorXd& x) {
-  ldl_perm(N_, work2_.data(), x.data(), P_.data());
-  ldl_lsolve(N_, work2_.data(), Lp_.data(), Li_.data(), Lx_.data());
-  ldl_dsolve(N_, work2_.data(), D_.data());
-  ldl_ltsolve(N_, work2_.data(), Lp_.data(), Li_.data(), Lx_.data());
-  ldl_permt(N_, x.data(), work2_.data(), P_.data());
+// z eliminated: dz = D^-1 (G dx + V dp + U dq - rz); the reduced right-hand side is
+// [rx + G^T D^-1 rz; ry; V^T D^-1 rz; U^T D^-1 rz].
+void KktSystem::reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol) {
+  const int pk0 = n_ + p_;
+  sol.resize(n_ + p_ + m_);
+  if (m_ > 0) {
+    tz_ = r.tail(m_).cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
+    G_.multiply_transpose(tz_, red_.head(n_));
+    red_.head(n_) += r.head(n_);
+  } else {
+    red_.head(n_) = r.head(n_);
+  }
+  red_.segment(n_, p_) = r.segment(n_, p_);
+  for (int k = 0; k < nsoc_; ++k) {
+    const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
+    const double head = r[n_ + p_ + o];
+    const double cross = d > 1 ? qhat_.segment(o + 1, d - 1).dot(r.segment(n_ + p_ + o + 1, d - 1)) : 0.0;
+    red_[pk0 + 2 * k] = scale_p_[k] * (head - cross);
+    red_[pk0 + 2 * k + 1] = scale_q_[k] * (head + cross);
+  }
+  ldl_perm(R_, red_perm_.data(), red_.data(), P_.data());
+  ldl_lsolve(R_, red_perm_.data(), Lp_.data(), Li_.data(), Lx_.data());
+  ldl_dsolve(R_, red_perm_.data(), D_.data());
+  ldl_ltsolve(R_, red_perm_.data(), Lp_.data(), Li_.data(), Lx_.data());
+  ldl_permt(R_, red_.data(), red_perm_.data(), P_.data());
+  sol.head(n_ + p_) = red_.head(n_ + p_);
+  if (m_ == 0) return;
+  auto dz = sol.tail(m_);
+  G_.multiply(red_.head(n_), dz);
+  dz -= r.tail(m_);
+  for (int k = 0; k < nsoc_; ++k) {
+    const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
+    const double a = scale_p_[k] * red_[pk0 + 2 * k], b = scale_q_[k] * red_[pk0 + 2 * k + 1];
+    // V dp + U dq = (a g + b f) * pivot; dz below gets D^-1 = 1/pivot.
+    const double beta2 = 1.0 / inv_d_[o];
+    dz[o] += beta2 * (a + b);
+    if (d > 1) dz.segment(o + 1, d - 1) += (beta2 * (b - a)) * qhat_.segment(o + 1, d - 1);
+  }
+  dz = dz.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
 }
 
-// Reduced K v into out; every buffer is a member sized once, because at the compressed
-// problem's 14 cone rows allocation, not arithmetic, dominated a Newton solve.
-void KktSystem::multiply_true(const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+// rhs - K v for the unregularized, unexpanded K.
+void KktSystem::residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   const int nr = n_ + p_ + m_;
   out.resize(nr);
-  out.head(n_).setZero();
+  const double* vz = v.data() + n_ + p_;
+  double* oz = out.data() + n_ + p_;
+  out.head(n_) = rhs.head(n_);
   if (p_ > 0) {
-    out.head(n_).noalias() += A_.transpose() * v.segment(n_, p_);
-    out.segment(n_, p_).noalias() = A_ * v.head(n_);
+    out.head(n_).noalias() -= A_.transpose() * v.segment(n_, p_);
+    out.segment(n_, p_).noalias() = rhs.segment(n_, p_) - A_ * v.head(n_);
   }
   if (m_ > 0) {
-    z_ = v.segment(n_ + p_, m_);
-    cones_.apply_w_squared(w_, z_, w2z_);
-    out.head(n_).noalias() += G_.transpose() * z_;
-    out.segment(n_ + p_, m_).noalias() = G_ * v.head(n_);
-    out.segment(n_ + p_, m_) -= w2z_;
+    G_.add_multiply_transpose(-1.0, v.tail(m_), out.head(n_));
+    out.tail(m_) = rhs.tail(m_);
+    G_.add_multiply(-1.0, v.head(n_), out.tail(m_));
+  }
+  const int l = cones_.spec().nonnegative;
+  for (int r = 0; r < l; ++r) oz[r] += w_.orthant_w[r] * w_.orthant_w[r] * vz[r];
+  for (int k = 0; k < nsoc_; ++k) {
+    // W^2 x = beta^2 (2 q (q^T x) - J x), q = (q0, 2 wb0 wb1)
+    const SocScaling& sc = w_.soc[k];
+    const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
+    const double two_wb0 = 2.0 * sc.wb[0];
+    const double* wb = sc.wb.data();
+    double t = 0.0;
+    for (int i = 1; i < d; ++i) t += wb[i] * vz[o + i];
+    t = 2.0 * (sc.q0 * vz[o] + two_wb0 * t);
+    const double b2 = sc.beta * sc.beta;
+    oz[o] += b2 * (t * sc.q0 - vz[o]);
+    const double f = b2 * t * two_wb0;
+    for (int i = 1; i < d; ++i) oz[o + i] += f * wb[i] + b2 * vz[o + i];
   }
 }
 
-bool KktSystem::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol) {
+bool KktSystem::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, bool refine) {
+  if (!refine) {
+    reduced_solve(rhs, sol);
+    last_refine_ = 0;
+    return sol.allFinite();
+  }
   const int nr = n_ + p_ + m_;
   sol.setZero(nr);
-  residual_ = rhs;
+  res_ = rhs;
   const double target = settings_.refinement_tolerance * (1.0 + rhs.lpNorm<Eigen::Infinity>());
   double last_norm = std::numeric_limits<double>::infinity();
   last_refine_ = 0;
   for (int step = 0; step <= settings_.max_refinement_steps; ++step) {
-    work_.head(nr) = residual_;
-    work_.tail(N_ - nr).setZero();
-    ldl_solve(work_);
-    candidate_ = sol + work_.head(nr);
-    multiply_true(candidate_, kv_);
-    new_residual_ = rhs - kv_;
-    const double norm = new_residual_.lpNorm<Eigen::Infinity>();
+    reduced_solve(res_, cand_);
+    cand_ += sol;
+    residual(rhs, cand_, new_res_);
+    const double norm = new_res_.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(norm)) return step > 0;
     if (norm >= last_norm) break;  // refinement stalled: keep the better iterate
-    sol.swap(candidate_);
-    residual_.swap(new_residual_);
+    sol.swap(cand_);
+    res_.swap(new_res_);
     last_norm = norm;
     last_refine_ = step;
     if (norm <= target) break;

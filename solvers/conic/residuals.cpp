@@ -6,8 +6,8 @@
 
 namespace bivo::solvers::conic {
 
-void compute_residuals(const ConicProblem& sp, const ConicProblem& op, const Equilibration& eq,
-                       const Variables& v, Residuals& r) {
+void compute_residuals(const ConicProblem& sp, const ConstraintMatrix& G, const ConicProblem& op,
+                       const Equilibration& eq, const Variables& v, Residuals& r) {
   const int p = sp.num_equalities(), m = sp.num_cone_rows();
   Eigen::VectorXd atyz = Eigen::VectorXd::Zero(sp.num_variables());  // A^T y + G^T z (scaled)
   Eigen::VectorXd ax = Eigen::VectorXd::Zero(p), gx = Eigen::VectorXd::Zero(m);
@@ -16,8 +16,8 @@ void compute_residuals(const ConicProblem& sp, const ConicProblem& op, const Equ
     ax = sp.A * v.x;
   }
   if (m > 0) {
-    atyz += sp.G.transpose() * v.z;
-    gx = sp.G * v.x;
+    G.add_multiply_transpose(1.0, v.z, atyz);
+    G.multiply(v.x, gx);
   }
   r.rx = -(atyz + sp.c * v.tau);
   r.ry = ax - sp.b * v.tau;

@@ -6,6 +6,7 @@
 // mean the same with and without equilibration.
 #include <Eigen/Core>
 
+#include "solvers/conic/constraint_matrix.h"
 #include "solvers/conic/problem_data.h"
 #include "solvers/conic/variables.h"
 
@@ -28,8 +29,9 @@ struct Residuals {
   double dual_infeasibility = 0.0;    // max(||A x||, ||G x + s||) / -c^T x
 };
 
-// `scaled` is the problem the IPM iterates on, `original` the user's, `eq` maps between them.
-void compute_residuals(const ConicProblem& scaled, const ConicProblem& original, const Equilibration& eq,
-                       const Variables& v, Residuals& r);
+// `scaled` is the problem the IPM iterates on (G its constraint matrix), `original` the
+// user's, `eq` maps between them.
+void compute_residuals(const ConicProblem& scaled, const ConstraintMatrix& G, const ConicProblem& original,
+                       const Equilibration& eq, const Variables& v, Residuals& r);
 
 }  // namespace bivo::solvers::conic
