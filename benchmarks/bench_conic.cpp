@@ -81,9 +81,7 @@ void all_sizes(benchmark::internal::Benchmark* b) {
 
 }  // namespace
 
-// ipm-full stops at 76800 pixels: at 307200 one step takes several seconds (docs/conic.md,
-// open issue), too long for the CI smoke run.
-BENCHMARK(BM_Step_IpmFull)->Arg(1200)->Arg(4800)->Arg(19200)->Arg(76800)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Step_IpmFull)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step_IpmCompressed_WithQr)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step_IpmCompressed_FactorsFormed)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step_Exact)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);

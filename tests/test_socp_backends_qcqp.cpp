@@ -43,11 +43,12 @@ TEST(SocpBackends, IpmFullAndCompressedMatchExactStepInRawUnits) {
       models_only.full1.reset();
       models_only.full2.reset();
       const StepResult rm = comp.solve(eps_subproblem(models_only, s.epsilon));
-      // Step accuracy: the compressed cones (floor outside) reach ~1e-6; the paper's full
-      // form keeps the floor F_1(min) inside t = ||e1||, where d moves only a ~1e-3 part of
-      // t^2, so a relative gap at the KKT-precision limit (~1e-11) leaves ~1e-5 in d
-      // (measured; docs/conic.md). Objective values agree far tighter in both forms.
-      const double step_tol[3] = {1e-4, 3e-6, 3e-6};
+      // Step accuracy: the compressed cones (floor outside) meet the 1e-6 (worst
+      // measured here 3.8e-7); the paper's full form keeps the floor F_1(min) inside
+      // t = ||e1||, where d moves only a ~1e-3 part of t^2, so a relative gap at the
+      // KKT-precision limit (~1e-11) leaves up to ~5e-5 in d (measured; docs/conic.md).
+      // Objective values agree far tighter in both forms.
+      const double step_tol[3] = {1e-4, 1e-6, 1e-6};
       const StepResult* results[3] = {&rf, &rc, &rm};
       for (int k = 0; k < 3; ++k) {
         const StepResult* r = results[k];

@@ -9,26 +9,30 @@ namespace bivo::solvers::conic {
 void compute_residuals(const ConicProblem& sp, const ConstraintMatrix& G, const ConicProblem& op,
                        const Equilibration& eq, const Variables& v, Residuals& r) {
   const int p = sp.num_equalities(), m = sp.num_cone_rows();
-  Eigen::VectorXd atyz = Eigen::VectorXd::Zero(sp.num_variables());  // A^T y + G^T z (scaled)
-  Eigen::VectorXd ax = Eigen::VectorXd::Zero(p), gx = Eigen::VectorXd::Zero(m);
+  Eigen::VectorXd& atyz = r.atyz;  // A^T y + G^T z (scaled)
+  Eigen::VectorXd& ax = r.ax;
+  Eigen::VectorXd& gx = r.gx;
+  atyz.setZero(sp.num_variables());
+  ax.setZero(p);
+  gx.setZero(m);
   if (p > 0) {
-    atyz += sp.A.transpose() * v.y;
-    ax = sp.A * v.x;
+    atyz.noalias() += sp.A.transpose() * v.y;
+    ax.noalias() = sp.A * v.x;
   }
   if (m > 0) {
     G.add_multiply_transpose(1.0, v.z, atyz);
     G.multiply(v.x, gx);
   }
-  r.rx = -(atyz + sp.c * v.tau);
-  r.ry = ax - sp.b * v.tau;
-  r.rz = v.s + gx - sp.h * v.tau;
+  r.rx.noalias() = -(atyz + sp.c * v.tau);
+  r.ry.noalias() = ax - sp.b * v.tau;
+  r.rz.noalias() = v.s + gx - sp.h * v.tau;
   const double cx = sp.c.dot(v.x), by = sp.b.dot(v.y), hz = sp.h.dot(v.z);
   r.rtau = v.kappa + cx + by + hz;
 
   // Back to original units: dual-space rows by 1/D, primal equality rows by 1/Ea, cone rows by 1/Eg.
-  const Eigen::VectorXd atyz_o = atyz.cwiseQuotient(eq.col);
-  const Eigen::VectorXd ax_o = ax.cwiseQuotient(eq.row_eq);
-  const Eigen::VectorXd gxs_o = (gx + v.s).cwiseQuotient(eq.row_cone);
+  const auto atyz_o = atyz.cwiseQuotient(eq.col);
+  const auto ax_o = ax.cwiseQuotient(eq.row_eq);
+  const auto gxs_o = (gx + v.s).cwiseQuotient(eq.row_cone);
   const double tau = v.tau;
   const double nb = std::max(1.0, op.b.norm()), nh = std::max(1.0, op.h.norm()), nc = std::max(1.0, op.c.norm());
   r.primal_residual = std::max(p > 0 ? (ax_o / tau - op.b).norm() / nb : 0.0,

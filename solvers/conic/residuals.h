@@ -27,6 +27,9 @@ struct Residuals {
   double primal_infeasibility = 0.0;  // ||A^T y + G^T z|| / -(h^T z + b^T y)
   double cx = 0.0;               // c^T x           (< 0 for a dual infeasibility certificate)
   double dual_infeasibility = 0.0;    // max(||A x||, ||G x + s||) / -c^T x
+
+  // Work space, kept between calls so an iteration allocates nothing.
+  Eigen::VectorXd atyz, ax, gx;
 };
 
 // `scaled` is the problem the IPM iterates on (G its constraint matrix), `original` the
