@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include "solvers/conic/cones.h"
+#include "solvers/conic/constraint_matrix.h"
 #include "solvers/conic/ipm_solver.h"
 #include "solvers/error.h"
 
@@ -286,6 +287,62 @@ TEST(ConicIpm, MinimumNormPointOfAnAffineSetIsClosedForm) {
     EXPECT_LT((r.x.tail(n) - xs).norm(), 1e-7 * (1 + xs.norm()));
     EXPECT_NEAR(r.primal_objective, xs.norm(), 1e-7 * (1 + xs.norm()));
   }
+}
+
+TEST(ConstraintMatrix, EveryLayoutMultipliesLikeTheDenseMatrix) {
+  // Dense copy (nearly full, few columns), by columns/rows (sparse or many columns): each
+  // product against Eigen's dense product of the same matrix.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  struct Shape {
+    int rows, cols;
+    double density;
+    bool dense;
+  };
+  for (const Shape sh : {Shape{40, 7, 0.9, true}, Shape{40, 7, 0.2, false}, Shape{30, 80, 0.9, false}}) {
+    const SparseMatrix G = random_sparse(sh.rows, sh.cols, sh.density, rng);
+    const Eigen::MatrixXd D(G);
+    const ConstraintMatrix M(G);
+    EXPECT_EQ(M.dense(), sh.dense);
+    Eigen::VectorXd x(sh.cols), v(sh.rows);
+    for (int i = 0; i < sh.cols; ++i) x[i] = g(rng);
+    for (int i = 0; i < sh.rows; ++i) v[i] = g(rng);
+    Eigen::VectorXd gx(sh.rows), gtv(sh.cols);
+    M.multiply(x, gx);
+    M.multiply_transpose(v, gtv);
+    EXPECT_LT((gx - D * x).norm(), 1e-12 * (1 + gx.norm()));
+    EXPECT_LT((gtv - D.transpose() * v).norm(), 1e-12 * (1 + gtv.norm()));
+    Eigen::VectorXd acc_x = Eigen::VectorXd::Ones(sh.rows), acc_t = Eigen::VectorXd::Ones(sh.cols);
+    M.add_multiply(-2.0, x, acc_x);
+    M.add_multiply_transpose(0.5, v, acc_t);
+    EXPECT_LT((acc_x - (Eigen::VectorXd::Ones(sh.rows) - 2.0 * D * x)).norm(), 1e-12 * (1 + acc_x.norm()));
+    EXPECT_LT((acc_t - (Eigen::VectorXd::Ones(sh.cols) + 0.5 * D.transpose() * v)).norm(), 1e-12 * (1 + acc_t.norm()));
+  }
+}
+
+TEST(ConicIpm, UncompressedInputSolvesLikeCompressed) {
+  // Minimum-norm point again, G built by insert() and left uncompressed (reserved gaps in
+  // its arrays): the KKT system must read it right.
+  const int n = 5;
+  Eigen::MatrixXd A0(1, n);
+  A0 << 1, 2, -1, 0.5, 3;
+  ConicProblem p;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(1, n + 1);
+  A.rightCols(n) = A0;
+  p.A = A.sparseView();
+  p.b = Eigen::VectorXd::Constant(1, 2.0);
+  p.c = Eigen::VectorXd::Zero(n + 1);
+  p.c[0] = 1.0;
+  p.G.resize(n + 1, n + 1);
+  p.G.reserve(Eigen::VectorXi::Constant(n + 1, 3));
+  for (int i = 0; i <= n; ++i) p.G.insert(i, i) = -1.0;
+  ASSERT_FALSE(p.G.isCompressed());
+  p.h = Eigen::VectorXd::Zero(n + 1);
+  p.cones.soc = {n + 1};
+  const IpmResult r = solve_conic(p);
+  ASSERT_EQ(r.status, IpmStatus::kOptimal);
+  const Eigen::VectorXd xs = A0.transpose() * (A0 * A0.transpose()).ldlt().solve(p.b);
+  EXPECT_LT((r.x.tail(n) - xs).norm(), 1e-7 * (1 + xs.norm()));
 }
 
 TEST(ConicIpm, ProjectionOntoSecondOrderConeIsClosedForm) {

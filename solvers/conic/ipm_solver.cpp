@@ -51,6 +51,8 @@ class Solver {
     if (sp_.A.cols() != n) sp_.A.resize(0, n);
     if (sp_.G.cols() != n) sp_.G.resize(0, n);
     eq_ = st_.equilibration_passes > 0 ? equilibrate(sp_, st_.equilibration_passes) : identity_equilibration(sp_);
+    sp_.A.makeCompressed();  // the KKT system reads the compressed arrays directly
+    sp_.G.makeCompressed();
     cones_ = std::make_unique<ConeProduct>(sp_.cones);
     KktSettings ks;
     ks.static_regularization = st_.static_regularization;

@@ -24,6 +24,7 @@ bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm
 KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings)
     : A_(A), G_(Gm), cones_(cones), settings_(settings) {
   const SparseMatrix& G = Gm.sparse();
+  if (!G.isCompressed() || !A.isCompressed()) throw Error("conic KKT: A and G must be compressed");
   n_ = static_cast<int>(std::max(A.cols(), G.cols()));
   p_ = static_cast<int>(A.rows());
   m_ = static_cast<int>(G.rows());
@@ -134,16 +135,16 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
     q_diag_.push_back(slot(pk0 + 2 * k + 1, pk0 + 2 * k + 1));
   }
   gq_.resize(static_cast<Eigen::Index>(couple_col_.size()));
-  // Each nonzero of G below a cone's head adds to that cone's G^T q-hat at its column.
+  // Each nonzero of G below a cone's head adds to that cone's G^T q-hat at its column
+  // (G is compressed: the IPM compresses its copy; couple columns are sorted per cone).
   gq_target_.assign(G.nonZeros(), -1);
-  for (int k = 0; k < nsoc_; ++k) {
-    const int o = cones.soc_offset(k), d = cones.spec().soc[k];
-    for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) {
-      const int j = couple_col_[c];
-      for (int e = G.outerIndexPtr()[j]; e < G.outerIndexPtr()[j + 1]; ++e) {
-        const int r = G.innerIndexPtr()[e];
-        if (r > o && r < o + d) gq_target_[e] = c;
-      }
+  for (int j = 0; j < G.outerSize(); ++j) {
+    for (int e = G.outerIndexPtr()[j]; e < G.outerIndexPtr()[j + 1]; ++e) {
+      const int r = G.innerIndexPtr()[e], k = cone_of_row_[r];
+      if (k < 0 || r == cones.soc_offset(k)) continue;
+      const auto first = couple_col_.begin() + couple_begin_[k], last = couple_col_.begin() + couple_begin_[k + 1];
+      const auto it = std::lower_bound(first, last, j);
+      if (it != last && *it == j) gq_target_[e] = static_cast<int>(it - couple_col_.begin());
     }
   }
   qhat_ = Eigen::VectorXd::Zero(m_);
