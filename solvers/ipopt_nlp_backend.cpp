@@ -8,19 +8,15 @@
 #include <limits>
 #include <sstream>
 
-#include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
-#include <IpTNLP.hpp>
 
 #include <Eigen/Dense>
 
 #include "solvers/error.h"
+#include "solvers/ipopt_one_constraint.h"
 
 namespace bivo::solvers {
 namespace {
-
-using Ipopt::Index;
-using Ipopt::Number;
 
 // F_j, its gradient and Gauss-Newton Hessian in the tangent coordinates d around x_c.
 struct Evaluation {
@@ -50,91 +46,45 @@ Eigen::MatrixXd tangent_chain(const Manifold& m, const Eigen::VectorXd& xc, cons
   return T;
 }
 
-class EpsilonNlp final : public Ipopt::TNLP {
+// Scaled: f = F_1 / f_scale, g = F_2 / epsilon - 1 <= 0, in tangent coordinates d.
+class EpsilonNlp final : public OneConstraintTnlp {
  public:
   EpsilonNlp(BiObjectiveProblem& problem, const Eigen::VectorXd& xc, double epsilon, double f_scale)
       : problem_(problem), xc_(xc), epsilon_(epsilon), f_scale_(f_scale) {}
 
-  Eigen::VectorXd d_final;
-  double lambda_final = 0.0;
-  Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
-
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h, IndexStyleEnum& style) override {
-    n = problem_.manifold().tangent_dim();
-    m = 1;
-    nnz_jac = n;
-    nnz_h = n * (n + 1) / 2;
-    style = C_STYLE;
-    return true;
-  }
-  bool get_bounds_info(Index n, Number* xl, Number* xu, Index, Number* gl, Number* gu) override {
-    for (Index i = 0; i < n; ++i) {
-      xl[i] = -2e19;
-      xu[i] = 2e19;
-    }
-    gl[0] = -2e19;
-    gu[0] = 0.0;
-    return true;
-  }
-  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
-    std::fill(x, x + n, 0.0);
-    return true;
-  }
-  bool eval_f(Index n, const Number* x, bool, Number& f) override {
-    const Evaluation& e = at(n, x);
+ protected:
+  int dim() const override { return problem_.manifold().tangent_dim(); }
+  bool objective(const Point& d, double& f) override {
+    const Evaluation& e = at(d);
     f = e.F1 / f_scale_;
     return e.ok;
   }
-  bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
-    const Evaluation& e = at(n, x);
-    Eigen::Map<Eigen::VectorXd>(g, n) = e.g1 / f_scale_;
+  bool objective_gradient(const Point& d, Eigen::Map<Eigen::VectorXd> grad) override {
+    const Evaluation& e = at(d);
+    grad = e.g1 / f_scale_;
     return e.ok;
   }
-  bool eval_g(Index n, const Number* x, bool, Index, Number* g) override {
-    const Evaluation& e = at(n, x);
-    g[0] = e.F2 / epsilon_ - 1.0;
+  bool constraint(const Point& d, double& g) override {
+    const Evaluation& e = at(d);
+    g = e.F2 / epsilon_ - 1.0;
     return e.ok;
   }
-  bool eval_jac_g(Index n, const Number* x, bool, Index, Index, Index* rows, Index* cols, Number* v) override {
-    if (v == nullptr) {
-      for (Index i = 0; i < n; ++i) rows[i] = 0, cols[i] = i;
-      return true;
-    }
-    const Evaluation& e = at(n, x);
-    Eigen::Map<Eigen::VectorXd>(v, n) = e.g2 / epsilon_;
+  bool constraint_gradient(const Point& d, Eigen::Map<Eigen::VectorXd> grad) override {
+    const Evaluation& e = at(d);
+    grad = e.g2 / epsilon_;
     return e.ok;
   }
-  bool eval_h(Index n, const Number* x, bool, Number sigma, Index, const Number* lam, bool, Index, Index* rows,
-              Index* cols, Number* v) override {
-    if (v == nullptr) {
-      Index k = 0;
-      for (Index i = 0; i < n; ++i) {
-        for (Index j = 0; j <= i; ++j, ++k) rows[k] = i, cols[k] = j;
-      }
-      return true;
-    }
-    const Evaluation& e = at(n, x);
-    const Eigen::MatrixXd H = sigma / f_scale_ * e.H1 + lam[0] / epsilon_ * e.H2;
-    Index k = 0;
-    for (Index i = 0; i < n; ++i) {
-      for (Index j = 0; j <= i; ++j, ++k) v[k] = H(i, j);
-    }
+  bool lagrangian_hessian(const Point& d, double sigma, double lambda, Eigen::MatrixXd& H) override {
+    const Evaluation& e = at(d);
+    H = sigma / f_scale_ * e.H1 + lambda / epsilon_ * e.H2;
     return e.ok;
-  }
-  void finalize_solution(Ipopt::SolverReturn st, Index n, const Number* x, const Number*, const Number*, Index,
-                         const Number*, const Number* lam, Number, const Ipopt::IpoptData*,
-                         Ipopt::IpoptCalculatedQuantities*) override {
-    status = st;
-    d_final = Eigen::Map<const Eigen::VectorXd>(x, n);
-    lambda_final = lam[0];
   }
 
  private:
   // Ipopt asks for f, g and their derivatives at the same point in separate calls; one
   // residual evaluation serves them all.
-  const Evaluation& at(Index n, const Number* x) {
-    const Eigen::Map<const Eigen::VectorXd> d(x, n);
-    if (cache_.d.size() == n && cache_.d == d) return cache_;
+  const Evaluation& at(const Point& d) {
+    if (cache_.d.size() == d.size() && cache_.d == d) return cache_;
     cache_ = Evaluation();
     cache_.d = d;
     if (!d.allFinite()) return cache_;
@@ -246,18 +196,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       }
       const double f_scale = std::max(lin.f1.a, 1e-300);
 
-      Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-      app->Options()->SetIntegerValue("print_level", options.verbosity > 1 ? 5 : 0);
-      app->Options()->SetStringValue("sb", "yes");
-      app->Options()->SetNumericValue("bound_relax_factor", 0.0);
-      app->Options()->SetNumericValue("tol", 1e-10);
-      app->Options()->SetNumericValue("constr_viol_tol", 1e-10);
-      app->Options()->SetNumericValue("acceptable_tol", 1e-8);
-      app->Options()->SetIntegerValue("max_iter", budget);
-      app->Options()->SetStringValue("hessian_approximation", "exact");  // our Gauss-Newton Hessian
-      // Gauss-Newton Hessians are positive semidefinite: no inertia correction is needed for
-      // convexity, but keep Ipopt's default regularization for singular ones.
-      if (app->Initialize() != Ipopt::Solve_Succeeded) throw Error("ipopt-nlp: Ipopt initialization failed");
+      Ipopt::SmartPtr<Ipopt::IpoptApplication> app = make_ipopt(
+          "ipopt-nlp", options.verbosity > 1 ? 5 : 0, 1e-10, budget, {{"constr_viol_tol", 1e-10}, {"acceptable_tol", 1e-8}});
       auto* raw = new EpsilonNlp(problem, x, epsilon, f_scale);
       Ipopt::SmartPtr<Ipopt::TNLP> nlp = raw;
       const auto t_solve = std::chrono::steady_clock::now();
@@ -270,8 +210,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       summary.iterations += used;
 
       const Ipopt::SolverReturn st = raw->status;
-      const bool finite = raw->d_final.size() == m.tangent_dim() && raw->d_final.allFinite();
-      Eigen::VectorXd x_new = finite ? m.retract(x, raw->d_final) : x;
+      const bool finite = raw->x_final.size() == m.tangent_dim() && raw->x_final.allFinite();
+      Eigen::VectorXd x_new = finite ? m.retract(x, raw->x_final) : x;
       auto f_new = x_new.allFinite() ? problem.evaluate(x_new) : std::array<double, 2>{NAN, NAN};
       if (!std::isfinite(f_new[0]) || !std::isfinite(f_new[1])) {
         summary.termination = TerminationReason::kNumericalFailure;
