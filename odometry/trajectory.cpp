@@ -2,56 +2,39 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
 #include "odometry/atomic_file.h"
+#include "odometry/tum_text.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {
 
 Trajectory read_tum_trajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open trajectory '" + path + "'");
   Trajectory out;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream s(line);
+  for_each_tum_line(path, "trajectory", [&](const TumTextLine& l) {
+    if (l.tokens.size() < 8) {
+      throw Error(tum_line_error(path, l.line_no, "expected 'timestamp tx ty tz qx qy qz qw', got '" + l.raw + "'"));
+    }
+    if (l.tokens.size() > 8) {
+      throw Error(tum_line_error(path, l.line_no, "unexpected extra field '" + l.tokens[8] + "'"));
+    }
     double v[8];
-    for (double& x : v) {
-      if (!(s >> x)) {
-        throw Error(path + ":" + std::to_string(line_no) +
-                    ": expected 'timestamp tx ty tz qx qy qz qw', got '" + line + "'");
-      }
-      if (!std::isfinite(x)) {
-        throw Error(path + ":" + std::to_string(line_no) + ": non-finite value in '" + line + "'");
-      }
-    }
-    std::string extra;
-    if (s >> extra) {
-      throw Error(path + ":" + std::to_string(line_no) + ": unexpected extra field '" + extra + "'");
-    }
+    for (int i = 0; i < 8; ++i) v[i] = parse_tum_number(l.tokens[i], path, l.line_no, "a finite number");
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (q.norm() < 1e-6) {
-      throw Error(path + ":" + std::to_string(line_no) + ": quaternion has zero norm");
-    }
+    if (q.norm() < 1e-6) throw Error(tum_line_error(path, l.line_no, "quaternion has zero norm"));
     q.normalize();
     if (!out.empty() && v[0] < out.back().timestamp) {
-      throw Error(path + ":" + std::to_string(line_no) + ": timestamp " + std::to_string(v[0]) +
-                  " is earlier than the previous one (list must be sorted)");
+      throw Error(tum_line_error(path, l.line_no, "timestamp " + l.tokens[0] +
+                                                      " is earlier than the previous one (list must be sorted)"));
     }
     StampedPose p;
     p.timestamp = v[0];
     p.T_wc.linear() = q.toRotationMatrix();
     p.T_wc.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
     out.push_back(p);
-  }
+  });
   if (out.empty()) throw Error("trajectory '" + path + "' has no poses");
   return out;
 }

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <tuple>
 
 #include "odometry/png_io.h"
+#include "odometry/tum_text.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {
@@ -22,49 +21,18 @@ std::string join(const std::string& directory, const std::string& file) {
 
 std::string basename_of(const std::string& path) { return fs::path(path).filename().string(); }
 
-// Calls on_line(tokens, line_no, raw) for every non-comment, non-blank line.
-template <typename OnLine>
-void for_each_data_line(const std::string& path, OnLine on_line) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open list '" + path + "'");
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream s(line);
-    std::vector<std::string> tokens;
-    for (std::string t; s >> t;) tokens.push_back(t);
-    on_line(tokens, line_no, line);
-  }
-}
-
-double parse_timestamp(const std::string& token, const std::string& path, int line_no) {
-  std::size_t used = 0;
-  double t = 0.0;
-  try {
-    t = std::stod(token, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != token.size() || !std::isfinite(t)) {
-    throw Error(path + ":" + std::to_string(line_no) + ": '" + token + "' is not a timestamp");
-  }
-  return t;
-}
-
 }  // namespace
 
 std::vector<ListedFile> read_file_list(const std::string& path) {
   std::vector<ListedFile> out;
-  for_each_data_line(path, [&](const std::vector<std::string>& tokens, int line_no, const std::string& raw) {
+  for_each_tum_line(path, "list", [&](const TumTextLine& l) {
+    const auto& tokens = l.tokens;
+    const int line_no = l.line_no;
     if (tokens.size() != 2) {
-      throw Error(path + ":" + std::to_string(line_no) + ": expected 'timestamp filename', got '" + raw + "'");
+      throw Error(tum_line_error(path, line_no, "expected 'timestamp filename', got '" + l.raw + "'"));
     }
     ListedFile f;
-    f.timestamp = parse_timestamp(tokens[0], path, line_no);
+    f.timestamp = parse_tum_number(tokens[0], path, line_no, "a timestamp");
     f.file = tokens[1];
     f.line = line_no;
     if (!out.empty() && f.timestamp < out.back().timestamp) {
@@ -116,15 +84,17 @@ std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
 std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory,
                                                double max_dt) {
   std::vector<AssociatedFrame> out;
-  for_each_data_line(path, [&](const std::vector<std::string>& tokens, int line_no, const std::string& raw) {
+  for_each_tum_line(path, "list", [&](const TumTextLine& l) {
+    const auto& tokens = l.tokens;
+    const int line_no = l.line_no;
     const std::string where = path + ":" + std::to_string(line_no);
     if (tokens.size() != 4) {
-      throw Error(where + ": expected 't_rgb rgb_file t_depth depth_file', got '" + raw + "'");
+      throw Error(where + ": expected 't_rgb rgb_file t_depth depth_file', got '" + l.raw + "'");
     }
     AssociatedFrame f;
-    f.rgb_time = parse_timestamp(tokens[0], path, line_no);
+    f.rgb_time = parse_tum_number(tokens[0], path, line_no, "a timestamp");
     f.rgb_path = join(directory, tokens[1]);
-    f.depth_time = parse_timestamp(tokens[2], path, line_no);
+    f.depth_time = parse_tum_number(tokens[2], path, line_no, "a timestamp");
     f.depth_path = join(directory, tokens[3]);
     f.origin = basename_of(path) + ":" + std::to_string(line_no);
     if (!(std::abs(f.rgb_time - f.depth_time) < max_dt)) {
