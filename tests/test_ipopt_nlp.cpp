@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "problems/exponential_decay_pair.h"
 #include "problems/linear_least_squares_pair.h"
 #include "problems/point_alignment_pair.h"
@@ -23,11 +25,9 @@ using bivo::problems::ExponentialDecayPair;
 using bivo::problems::LinearLeastSquaresPair;
 using bivo::problems::PointAlignmentPair;
 
-namespace {
+using bivo::testing::rel_err;
 
-double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
-  return (got - want).norm() / std::max(1.0, want.norm());
-}
+namespace {
 
 solvers::SolverOptions tight_options() {
   solvers::SolverOptions opt;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "solvers/conic/synthetic_qcqp.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
@@ -12,15 +14,7 @@
 
 using namespace bivo::solvers;
 
-namespace {
-Subproblem eps_subproblem(const Linearization& lin, double epsilon) {
-  Subproblem sp;
-  sp.kind = ScalarizationKind::kEpsilonConstraint;
-  sp.lin = &lin;
-  sp.epsilon = epsilon;
-  return sp;
-}
-}  // namespace
+using bivo::testing::eps_subproblem;
 
 TEST(NlpStepBackends, IpoptAndNloptMatchExactStepInRawUnits) {
   IpoptQcqpBackend ipopt;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "solvers/conic/qcqp_socp.h"
 #include "solvers/conic/synthetic_qcqp.h"
 #include "solvers/error.h"
@@ -14,17 +16,12 @@
 
 using namespace bivo::solvers;
 
+using bivo::testing::eps_subproblem;
+
 namespace {
 
 double rel(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / std::max(1e-12, b.norm()); }
 
-Subproblem eps_subproblem(const Linearization& lin, double epsilon) {
-  Subproblem sp;
-  sp.kind = ScalarizationKind::kEpsilonConstraint;
-  sp.lin = &lin;
-  sp.epsilon = epsilon;
-  return sp;
-}
 
 }  // namespace
 

@@ -9,6 +9,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "problems/exponential_decay_pair.h"
 #include "problems/linear_least_squares_pair.h"
 #include "problems/point_alignment_pair.h"
@@ -22,11 +24,9 @@ using bivo::problems::ExponentialDecayPair;
 using bivo::problems::LinearLeastSquaresPair;
 using bivo::problems::PointAlignmentPair;
 
-namespace {
+using bivo::testing::rel_err;
 
-double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
-  return (got - want).norm() / std::max(1.0, want.norm());
-}
+namespace {
 
 // Robust (IRLS) instance: F_j = sum_i w_ji r_ji^2, r_j = A_j x - y_j with outliers, weights
 // re-estimated by linearize() as Cauchy weights w = 1 / (1 + (r / c)^2) at the current x.

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "problems/exponential_decay_pair.h"
 #include "problems/linear_least_squares_pair.h"
 #include "solvers/error.h"
@@ -14,11 +16,9 @@ using namespace bivo;
 using bivo::problems::LinearLeastSquaresPair;
 using bivo::solvers::ParetoPoint;
 
-namespace {
+using bivo::testing::rel_err;
 
-double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
-  return (got - want).norm() / std::max(1.0, want.norm());
-}
+namespace {
 
 ParetoPoint pt(double f1, double f2) {
   ParetoPoint p;

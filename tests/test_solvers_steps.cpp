@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "tests/test_support.h"
+
 #include "problems/linear_least_squares_pair.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -22,16 +24,14 @@ using namespace bivo;
 using bivo::problems::LinearLeastSquaresPair;
 using bivo::solvers::QuadraticModel;
 
+using bivo::testing::rel_err;
+
 namespace {
 
 std::string scientific(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3e", v);
   return buf;
-}
-
-double rel_err(const Eigen::VectorXd& got, const Eigen::VectorXd& want) {
-  return (got - want).norm() / std::max(1.0, want.norm());
 }
 
 LinearLeastSquaresPair draw_problem(int draw, std::mt19937_64& rng) {
