@@ -6,7 +6,11 @@
 
 namespace bivo::odometry {
 
-ImageF downsample_intensity(const ImageF& fine) {
+namespace {
+
+// Half resolution, each coarse pixel reduce(a, b, c, d) of its 2x2 fine block (row-major).
+template <typename Reduce>
+ImageF downsample(const ImageF& fine, Reduce reduce) {
   ImageF c;
   c.width = fine.width / 2;
   c.height = fine.height / 2;
@@ -15,36 +19,30 @@ ImageF downsample_intensity(const ImageF& fine) {
     const float* r0 = fine.data.data() + static_cast<std::size_t>(2 * y) * fine.width;
     const float* r1 = r0 + fine.width;
     float* out = c.data.data() + static_cast<std::size_t>(y) * c.width;
-    for (int x = 0; x < c.width; ++x) {
-      out[x] = 0.25f * (r0[2 * x] + r0[2 * x + 1] + r1[2 * x] + r1[2 * x + 1]);
-    }
+    for (int x = 0; x < c.width; ++x) out[x] = reduce(r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
   }
   return c;
 }
 
+}  // namespace
+
+ImageF downsample_intensity(const ImageF& fine) {
+  return downsample(fine, [](float a, float b, float c, float d) { return 0.25f * (a + b + c + d); });
+}
+
 ImageF downsample_depth(const ImageF& fine) {
-  ImageF c;
-  c.width = fine.width / 2;
-  c.height = fine.height / 2;
-  c.data.resize(static_cast<std::size_t>(c.width) * c.height);
-  for (int y = 0; y < c.height; ++y) {
-    const float* r0 = fine.data.data() + static_cast<std::size_t>(2 * y) * fine.width;
-    const float* r1 = r0 + fine.width;
-    float* out = c.data.data() + static_cast<std::size_t>(y) * c.width;
-    for (int x = 0; x < c.width; ++x) {
-      const float v[4] = {r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]};
-      float sum = 0.0f;
-      int count = 0;
-      for (float d : v) {
-        if (d > 0.0f) {
-          sum += d;
-          ++count;
-        }
+  // Mean of the valid (> 0) depths only: averaging in a hole would invent a depth.
+  return downsample(fine, [](float a, float b, float c, float d) {
+    float sum = 0.0f;
+    int count = 0;
+    for (float v : {a, b, c, d}) {
+      if (v > 0.0f) {
+        sum += v;
+        ++count;
       }
-      out[x] = count > 0 ? sum / count : 0.0f;
     }
-  }
-  return c;
+    return count > 0 ? sum / count : 0.0f;
+  });
 }
 
 RgbdPyramid build_pyramid(const RgbdImage& image, const Intrinsics& K, int levels) {
