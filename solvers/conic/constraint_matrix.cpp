@@ -48,4 +48,37 @@ void ConstraintMatrix::add_multiply_transpose(double a, const Eigen::Ref<const E
   }
 }
 
+void ConstraintMatrix::add_rows_multiply_transpose(int begin, int count, double a,
+                                                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                                                   Eigen::Ref<Eigen::VectorXd> out) const {
+  if (dense_) {
+    out.noalias() += a * (Gd_.middleRows(begin, count).transpose() * v);
+  } else {
+    out.noalias() += a * (Gr_.middleRows(begin, count).transpose() * v);
+  }
+}
+
+Eigen::MatrixXd ConstraintMatrix::dense_rows(int begin, int count) const {
+  if (dense_) return Gd_.middleRows(begin, count);
+  return Eigen::MatrixXd(Gr_.middleRows(begin, count));
+}
+
+RowMajorMatrix ConstraintMatrix::sparse_rows(int begin, int count) const {
+  if (dense_) return RowMajorMatrix(Gd_.middleRows(begin, count).sparseView());
+  return Gr_.middleRows(begin, count);
+}
+
+const SparseMatrix& ConstraintMatrix::gram(int begin, int count) const {
+  SparseMatrix& g = grams_[{begin, count}];
+  if (g.size() > 0 || cols() == 0) return g;
+  if (dense_) {
+    const Eigen::MatrixXd d = Gd_.middleRows(begin, count).transpose() * Gd_.middleRows(begin, count);
+    g = d.sparseView();
+  } else {
+    const SparseMatrix block = Gr_.middleRows(begin, count);
+    g = SparseMatrix(block.transpose()) * block;
+  }
+  return g;
+}
+
 }  // namespace bivo::solvers::conic

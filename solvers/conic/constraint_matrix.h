@@ -6,6 +6,9 @@
 // 6 Jacobian entries, 7 columns) a dense column-major copy turns both into vectorized
 // BLAS-2 products at the same memory. Otherwise: G by columns for G^T v (a dot per
 // column) and by rows for G x (a dot per row), so neither product scatters.
+#include <map>
+#include <utility>
+
 #include <Eigen/Core>
 
 #include "solvers/conic/problem_data.h"
@@ -32,12 +35,22 @@ class ConstraintMatrix {
                               Eigen::Ref<Eigen::VectorXd> out) const;  // out += a G^T v
   void add_multiply(double a, const Eigen::Ref<const Eigen::VectorXd>& x,
                     Eigen::Ref<Eigen::VectorXd> out) const;  // out += a G x
+  // Row blocks (one cone): out += a G(rows)^T v, v of length `count`; and the block as a
+  // dense count x cols matrix (for small active sets and cone Gram matrices).
+  void add_rows_multiply_transpose(int begin, int count, double a, const Eigen::Ref<const Eigen::VectorXd>& v,
+                                   Eigen::Ref<Eigen::VectorXd> out) const;
+  Eigen::MatrixXd dense_rows(int begin, int count) const;
+  RowMajorMatrix sparse_rows(int begin, int count) const;
+  // G(rows)^T G(rows) of a row block (exact zeros dropped), by a dense product when G is dense;
+  // formed on first request and kept (the KKT system and the polisher share a cone's).
+  const SparseMatrix& gram(int begin, int count) const;
 
  private:
   const SparseMatrix& G_;
   RowMajorMatrix Gr_;
   Eigen::MatrixXd Gd_;
   bool dense_ = false;
+  mutable std::map<std::pair<int, int>, SparseMatrix> grams_;
 };
 
 }  // namespace bivo::solvers::conic

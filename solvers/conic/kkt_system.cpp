@@ -38,16 +38,14 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   const int pk0 = n_ + p_;  // p_k = pk0 + 2k, q_k = pk0 + 2k + 1
 
   // G_k^T G_k per cone (constant: the z pivots of cone k are all -beta_k^2), the orthant
-  // rows' outer products, and the columns each cone couples to.
-  const RowMajorMatrix Gr = G;
+  // rows' outer products, and the columns each cone couples to (nonzero columns of G_k).
+  const RowMajorMatrix Gl = Gm.sparse_rows(0, l);
   std::vector<SparseMatrix> gram(nsoc_);
   std::vector<std::vector<int>> couple(nsoc_);
   for (int k = 0; k < nsoc_; ++k) {
-    const int o = cones.soc_offset(k), d = cones.spec().soc[k];
-    const SparseMatrix Gk = Gr.middleRows(o, d);
-    gram[k] = SparseMatrix(Gk.transpose()) * Gk;
-    for (int j = 0; j < Gk.outerSize(); ++j) {
-      if (Gk.col(j).nonZeros() > 0) couple[k].push_back(j);
+    gram[k] = Gm.gram(cones.soc_offset(k), cones.spec().soc[k]);
+    for (int j = 0; j < n_; ++j) {
+      if (gram[k].coeff(j, j) > 0.0) couple[k].push_back(j);
     }
   }
 
@@ -72,8 +70,8 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
     }
   }
   for (int r = 0; r < l; ++r) {
-    for (RowMajorMatrix::InnerIterator a(Gr, r); a; ++a) {
-      for (RowMajorMatrix::InnerIterator b(Gr, r); b; ++b) {
+    for (RowMajorMatrix::InnerIterator a(Gl, r); a; ++a) {
+      for (RowMajorMatrix::InnerIterator b(Gl, r); b; ++b) {
         if (a.col() <= b.col()) add(static_cast<int>(a.col()), static_cast<int>(b.col()));
       }
     }
@@ -112,8 +110,8 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
     }
   }
   for (int r = 0; r < l; ++r) {
-    for (RowMajorMatrix::InnerIterator a(Gr, r); a; ++a) {
-      for (RowMajorMatrix::InnerIterator b(Gr, r); b; ++b) {
+    for (RowMajorMatrix::InnerIterator a(Gl, r); a; ++a) {
+      for (RowMajorMatrix::InnerIterator b(Gl, r); b; ++b) {
         if (a.col() > b.col()) continue;
         orth_slot_.push_back(slot(static_cast<int>(a.col()), static_cast<int>(b.col())));
         orth_row_.push_back(r);
@@ -137,8 +135,9 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   gq_.resize(static_cast<Eigen::Index>(couple_col_.size()));
   // Each nonzero of G below a cone's head adds to that cone's G^T q-hat at its column
   // (G is compressed: the IPM compresses its copy; couple columns are sorted per cone).
-  gq_target_.assign(G.nonZeros(), -1);
-  for (int j = 0; j < G.outerSize(); ++j) {
+  // A dense G takes dense row-block products instead.
+  gq_target_.assign(Gm.dense() ? 0 : G.nonZeros(), -1);
+  for (int j = 0; j < (Gm.dense() ? 0 : G.outerSize()); ++j) {
     for (int e = G.outerIndexPtr()[j]; e < G.outerIndexPtr()[j + 1]; ++e) {
       const int r = G.innerIndexPtr()[e], k = cone_of_row_[r];
       if (k < 0 || r == cones.soc_offset(k)) continue;
@@ -239,7 +238,15 @@ bool KktSystem::factor(const NtScaling& w) {
   // Column by column, accumulating in a register while the target stays the same (a cone's
   // rows are contiguous), so no store-to-load chain through gq_.
   gq_.setZero();
-  {
+  if (G_.dense()) {
+    for (int k = 0; k < nsoc_; ++k) {
+      const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
+      if (d < 2) continue;
+      gq_full_.setZero(n_);
+      G_.add_rows_multiply_transpose(o + 1, d - 1, 1.0, qhat_.segment(o + 1, d - 1), gq_full_);
+      for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) gq_[c] = gq_full_[couple_col_[c]];
+    }
+  } else {
     const SparseMatrix& G = G_.sparse();
     const int* outer = G.outerIndexPtr();
     const int* inner = G.innerIndexPtr();

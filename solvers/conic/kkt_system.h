@@ -85,6 +85,7 @@ class KktSystem {
   std::vector<int> p_diag_, q_diag_;
   // Per-factorization quantities of each cone: inverse pivot, coupling scales, G^T q-hat.
   std::vector<double> inv_d_, inv_b2_, scale_p_, scale_q_;
+  Eigen::VectorXd gq_full_;  // dense G: G_k,1^T q-hat over all columns
   Eigen::VectorXd gq_;  // per cone k, the couple columns' (G_k,1^T q-hat) in couple order
   std::vector<int> gq_target_;  // per nonzero of G: its index in gq_, -1 for heads and the orthant
   Eigen::VectorXd qhat_;  // q-hat of every cone, stored at the cone's tail rows (heads unused)
