@@ -86,46 +86,50 @@ Equilibration equilibrate(ConicProblem& p, int passes) {
   // A scale of 0 (empty row/column) stays 1; each pass is bounded to avoid overflow on
   // pathological data.
   auto inv_sqrt = [](double v) { return v > 0.0 ? std::clamp(1.0 / std::sqrt(v), 1e-4, 1e4) : 1.0; };
-  for (int pass = 0; pass < passes; ++pass) {
-    Eigen::VectorXd col_max = Eigen::VectorXd::Zero(n), rowa = Eigen::VectorXd::Zero(me),
-                    rowg = Eigen::VectorXd::Zero(mc);
-    for (int j = 0; j < p.A.outerSize(); ++j) {
-      for (SparseMatrix::InnerIterator it(p.A, j); it; ++it) {
-        const double v = std::abs(it.value());
-        col_max[j] = std::max(col_max[j], v);
-        rowa[it.row()] = std::max(rowa[it.row()], v);
+  const ConeProduct cones(p.cones);
+  Eigen::VectorXd col_max = Eigen::VectorXd::Zero(n), rowa = Eigen::VectorXd::Zero(me),
+                  rowg = Eigen::VectorXd::Zero(mc);
+  Eigen::VectorXd dc = Eigen::VectorXd::Ones(n), da = Eigen::VectorXd::Ones(me), dg = Eigen::VectorXd::Ones(mc);
+  // One sweep over each matrix per pass: apply the previous pass's factors and take the
+  // infinity norms of the result (the last sweep only applies).
+  bool balanced = false;  // every factor of the last pass within 1 % of 1: stop early
+  for (int pass = 0; pass <= passes; ++pass) {
+    const bool last = pass == passes || balanced;
+    col_max.setZero();
+    rowa.setZero();
+    rowg.setZero();
+    auto sweep = [&](SparseMatrix& M, const Eigen::VectorXd& dr, Eigen::VectorXd& row_max) {
+      for (int j = 0; j < M.outerSize(); ++j) {
+        double cm = col_max[j];
+        for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
+          const double v = it.valueRef() *= dr[it.row()] * dc[j];
+          if (last) continue;
+          const double a = std::abs(v);
+          cm = std::max(cm, a);
+          row_max[it.row()] = std::max(row_max[it.row()], a);
+        }
+        col_max[j] = cm;
       }
-    }
-    for (int j = 0; j < p.G.outerSize(); ++j) {
-      for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) {
-        const double v = std::abs(it.value());
-        col_max[j] = std::max(col_max[j], v);
-        rowg[it.row()] = std::max(rowg[it.row()], v);
-      }
-    }
-    // One factor per second-order cone: scaling rows of a cone differently would change K.
-    const ConeProduct cones(p.cones);
-    for (int k = 0; k < cones.soc_count(); ++k) {
-      const int o = cones.soc_offset(k), m = p.cones.soc[k];
-      const double mx = rowg.segment(o, m).maxCoeff();
-      rowg.segment(o, m).setConstant(mx);
-    }
-    Eigen::VectorXd dc(n), da(me), dg(mc);
-    for (int j = 0; j < n; ++j) dc[j] = inv_sqrt(col_max[j]);
-    for (int i = 0; i < me; ++i) da[i] = inv_sqrt(rowa[i]);
-    for (int i = 0; i < mc; ++i) dg[i] = inv_sqrt(rowg[i]);
-    for (int j = 0; j < p.A.outerSize(); ++j) {
-      for (SparseMatrix::InnerIterator it(p.A, j); it; ++it) it.valueRef() *= da[it.row()] * dc[j];
-    }
-    for (int j = 0; j < p.G.outerSize(); ++j) {
-      for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) it.valueRef() *= dg[it.row()] * dc[j];
-    }
+    };
+    sweep(p.A, da, rowa);
+    sweep(p.G, dg, rowg);
     p.c = p.c.cwiseProduct(dc);
     p.b = p.b.cwiseProduct(da);
     p.h = p.h.cwiseProduct(dg);
     e.col = e.col.cwiseProduct(dc);
     e.row_eq = e.row_eq.cwiseProduct(da);
     e.row_cone = e.row_cone.cwiseProduct(dg);
+    if (last) break;
+    // One factor per second-order cone: scaling rows of a cone differently would change K.
+    for (int k = 0; k < cones.soc_count(); ++k) {
+      const int o = cones.soc_offset(k), m = p.cones.soc[k];
+      rowg.segment(o, m).setConstant(rowg.segment(o, m).maxCoeff());
+    }
+    for (int j = 0; j < n; ++j) dc[j] = inv_sqrt(col_max[j]);
+    for (int i = 0; i < me; ++i) da[i] = inv_sqrt(rowa[i]);
+    for (int i = 0; i < mc; ++i) dg[i] = inv_sqrt(rowg[i]);
+    auto near_one = [](const Eigen::VectorXd& d) { return d.size() == 0 || (d.array() - 1.0).abs().maxCoeff() < 1e-2; };
+    balanced = near_one(dc) && near_one(da) && near_one(dg);
   }
   return e;
 }
