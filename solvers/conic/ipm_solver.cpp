@@ -10,6 +10,7 @@
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/kkt_system.h"
+#include "solvers/conic/polish.h"
 #include "solvers/conic/residuals.h"
 #include "solvers/conic/variables.h"
 
@@ -59,6 +60,7 @@ class Solver {
     ks.max_refinement_steps = st_.max_refinement_steps;
     gmat_ = std::make_unique<ConstraintMatrix>(sp_.G);
     kkt_ = std::make_unique<KktSystem>(sp_.A, *gmat_, *cones_, ks);
+    if (st_.polish) polisher_ = std::make_unique<Polisher>(sp_, *gmat_, *cones_);
     n_ = n;
     p_ = sp_.num_equalities();
     m_ = sp_.num_cone_rows();
@@ -74,6 +76,9 @@ class Solver {
   bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine = true);
   double max_step(const Direction& d) const;
   IpmResult finish(IpmStatus status, const Variables& v, int iterations);
+  // Polishes v; true (r_ and polished_ then describe the polished point) when it meets the
+  // tolerances.
+  bool try_polish(const Variables& v, double feastol, double abstol, double reltol);
   // Numerical trouble or the iteration limit: like ECOS, accept the best iterate at the
   // reduced-accuracy tolerances if it meets them (flagged), else report the failure.
   IpmResult stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
@@ -81,6 +86,14 @@ class Solver {
     v_ = best;
     compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
     const IpmStatus verdict = classify(r_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate);
+    // The polished point may meet the strict tolerances, or at least the reduced ones with a
+    // far more accurate x (the full form's stall: relative gap 1e-11, x only to 1e-5).
+    if (verdict == IpmStatus::kOptimal &&
+        try_polish(v_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate)) {
+      IpmResult res = finish(IpmStatus::kOptimal, polished_, iterations);
+      res.reduced_accuracy = classify(r_, st_.feastol, st_.abstol, st_.reltol) != IpmStatus::kOptimal;
+      return res;
+    }
     IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
     res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
     return res;
@@ -101,6 +114,10 @@ class Solver {
   std::unique_ptr<ConeProduct> cones_;
   std::unique_ptr<ConstraintMatrix> gmat_;
   std::unique_ptr<KktSystem> kkt_;
+  std::unique_ptr<Polisher> polisher_;
+  Variables polished_;
+  Residuals polished_r_;
+  bool is_polished_ = false;
   int n_ = 0, p_ = 0, m_ = 0;
   Eigen::VectorXd cbh_;  // [-c; b; h]: the tau column of the embedding
   Variables v_;
@@ -196,7 +213,25 @@ IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
   res.gap = r_.gap;
   res.relative_gap = r_.relative_gap;
   res.kkt_factor_nonzeros = kkt_->factor_nonzeros();
+  res.polished = is_polished_;
+  res.polish_newton_steps = is_polished_ ? polisher_->last_newton_steps() : 0;
   return res;
+}
+
+bool Solver::try_polish(const Variables& v, double feastol, double abstol, double reltol) {
+  if (!polisher_ || !polisher_->polish(v, polished_)) return false;
+  compute_residuals(sp_, *gmat_, op_, eq_, polished_, polished_r_);
+  if (classify(polished_r_, feastol, abstol, reltol) != IpmStatus::kOptimal) return false;
+  if (st_.log) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "polished (%d Newton steps): pres %.1e, dres %.1e, gap %.1e\n",
+                  polisher_->last_newton_steps(), polished_r_.primal_residual, polished_r_.dual_residual,
+                  polished_r_.gap);
+    *st_.log << buf;
+  }
+  std::swap(r_, polished_r_);
+  is_polished_ = true;
+  return true;
 }
 
 void Solver::log_header() const {
@@ -236,6 +271,10 @@ IpmResult Solver::run() {
     }
     const IpmStatus verdict = classify(r_, st_.feastol, st_.abstol, st_.reltol);
     if (verdict != IpmStatus::kMaxIterations) return finish(verdict, v_, k);
+    if (r_.primal_residual < st_.polish_from && r_.dual_residual < st_.polish_from &&
+        std::min(r_.gap, r_.relative_gap) < st_.polish_from && try_polish(v_, st_.feastol, st_.abstol, st_.reltol)) {
+      return finish(IpmStatus::kOptimal, polished_, k);
+    }
     // Keep the iterate closest to any verdict, for the reduced-accuracy exits.
     const double score = std::min({std::max({r_.primal_residual, r_.dual_residual, std::min(r_.gap, r_.relative_gap)}),
                                    r_.primal_infeasibility, r_.dual_infeasibility});

@@ -35,6 +35,11 @@ struct IpmSettings {
   double step_fraction = 0.99;    // of the distance to the boundary
   double static_regularization = 1e-8;
   int max_refinement_steps = 5;
+  // Active-set Newton polishing (polish.h), tried at every iteration once the residuals and
+  // the (absolute or relative) gap are below polish_from; a polished point is returned only
+  // when it meets the tolerances above, else the iterations go on.
+  bool polish = true;
+  double polish_from = 1e-1;
   std::ostream* log = nullptr;    // per-iteration log when set
 };
 
@@ -46,6 +51,8 @@ struct IpmResult {
   double primal_objective = 0.0, dual_objective = 0.0;
   double primal_residual = 0.0, dual_residual = 0.0, gap = 0.0, relative_gap = 0.0;
   bool reduced_accuracy = false;  // met only the *_inaccurate tolerances
+  bool polished = false;          // the solution is the polished point (polish.h) ...
+  int polish_newton_steps = 0;    // ... after this many Newton steps
   int iterations = 0;
   double seconds = 0.0;
   long kkt_factor_nonzeros = 0;
