@@ -1,7 +1,8 @@
 // One epsilon-constraint step on image-like synthetic data in raw units (active
 // constraint), per backend and size n (pixels). Counters: inner iterations of the backend.
 // ipm-compressed is timed twice: with the thin QR of the n x 7 weighted [J r] blocks
-// ("_with_qr") and on the formed 7x7 factors only. The table lives in docs/conic.md.
+// ("_with_qr") and on the formed 7x7 factors only; the IPM forms with and without the
+// active-set Newton polish ("_NoPolish": the iterations alone). The table lives in docs/conic.md.
 #include <map>
 #include <memory>
 
@@ -34,15 +35,15 @@ Subproblem subproblem(const conic::SyntheticStep& s, const Linearization& lin) {
   return sp;
 }
 
-template <class Backend>
-void run_backend(benchmark::State& state, bool models_only) {
+template <class Backend, class... Args>
+void run_backend(benchmark::State& state, bool models_only, Args... args) {
   const conic::SyntheticStep& s = step_data(static_cast<int>(state.range(0)));
   Linearization lin = s.lin;
   if (models_only) {
     lin.full1.reset();
     lin.full2.reset();
   }
-  Backend backend;
+  Backend backend(args...);
   int iterations = 0;
   bool ok = true;
   for (auto _ : state) {
@@ -56,23 +57,32 @@ void run_backend(benchmark::State& state, bool models_only) {
 }
 
 void BM_Step_IpmFull(benchmark::State& st) { run_backend<IpmFullBackend>(st, false); }
+void BM_Step_IpmFull_NoPolish(benchmark::State& st) {
+  run_backend<IpmFullBackend>(st, false, conic::unpolished_step_ipm_settings());
+}
 void BM_Step_IpmCompressed_WithQr(benchmark::State& st) { run_backend<IpmCompressedBackend>(st, false); }
 void BM_Step_Ipopt(benchmark::State& st) { run_backend<IpoptQcqpBackend>(st, true); }
 void BM_Step_Nlopt(benchmark::State& st) { run_backend<NloptSlsqpBackend>(st, true); }
 void BM_Step_Exact(benchmark::State& st) { run_backend<ExactQcqpBackend>(st, true); }
 
 // ipm-compressed once the 7x7 factors are formed: the IPM on two cones of dimension 7.
-void BM_Step_IpmCompressed_FactorsFormed(benchmark::State& state) {
+void compressed_factors_formed(benchmark::State& state, const conic::IpmSettings& settings) {
   const conic::SyntheticStep& s = step_data(static_cast<int>(state.range(0)));
   const conic::ConeFactor f1 = conic::factor_from_residuals(*s.lin.full1);
   const conic::ConeFactor f2 = conic::factor_from_residuals(*s.lin.full2);
   int iterations = 0;
   for (auto _ : state) {
-    const conic::QcqpConeStep r = conic::solve_qcqp_compressed(f1, f2, s.lin.f2, s.epsilon);
+    const conic::QcqpConeStep r = conic::solve_qcqp_compressed(f1, f2, s.lin.f2, s.epsilon, settings);
     iterations = r.iterations;
     benchmark::DoNotOptimize(r.delta.data());
   }
   state.counters["iterations"] = iterations;
+}
+void BM_Step_IpmCompressed_FactorsFormed(benchmark::State& st) {
+  compressed_factors_formed(st, conic::step_ipm_settings());
+}
+void BM_Step_IpmCompressed_FactorsFormed_NoPolish(benchmark::State& st) {
+  compressed_factors_formed(st, conic::unpolished_step_ipm_settings());
 }
 
 void all_sizes(benchmark::internal::Benchmark* b) {
@@ -82,8 +92,10 @@ void all_sizes(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_Step_IpmFull)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Step_IpmFull_NoPolish)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step_IpmCompressed_WithQr)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step_IpmCompressed_FactorsFormed)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step_IpmCompressed_FactorsFormed_NoPolish)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step_Exact)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step_Ipopt)->Apply(all_sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step_Nlopt)->Apply(all_sizes)->Unit(benchmark::kMicrosecond);

@@ -144,7 +144,7 @@ void add_conic_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("conic", "solve a conic program (orthant x SOC) from a JSON file with the own IPM");
   static std::string file;
   static solvers::conic::IpmSettings settings;
-  static bool verbose = false, print_solution = false;
+  static bool verbose = false, print_solution = false, no_polish = false;
   cmd->add_option("file", file, "JSON problem: c, A/b (optional), G, h, cones {l, q} (docs/conic.md)")->required();
   cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(CLI::PositiveNumber);
   cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(CLI::NonNegativeNumber);
@@ -152,17 +152,24 @@ void add_conic_command(CLI::App& app) {
   cmd->add_option("--max-iter", settings.max_iterations, "iteration limit")->check(CLI::PositiveNumber);
   cmd->add_option("--equilibration-passes", settings.equilibration_passes, "Ruiz passes (0 = off)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--no-polish", no_polish, "interior-point iterations only, no active-set Newton polish");
   cmd->add_flag("--verbose,-v", verbose, "per-iteration log");
   cmd->add_flag("--solution", print_solution, "also print x, y, z, s");
   cmd->callback([] {
     const ConicProblem p = read_problem(file);
     if (verbose) settings.log = &std::cout;
+    settings.polish = !no_polish;
     const auto r = solvers::conic::solve_conic(p, settings);
     std::printf("status: %s%s\n", solvers::conic::to_string(r.status).c_str(),
                 r.reduced_accuracy ? " (reduced accuracy)" : "");
     std::printf("objective: %.12g (dual %.12g)\n", r.primal_objective, r.dual_objective);
     std::printf("residuals: primal %.3e dual %.3e gap %.3e\n", r.primal_residual, r.dual_residual, r.gap);
-    std::printf("iterations: %d\n", r.iterations);
+    if (r.polished) {
+      std::printf("iterations: %d, then polished (%d Newton steps on the active set)\n", r.iterations,
+                  r.polish_newton_steps);
+    } else {
+      std::printf("iterations: %d\n", r.iterations);
+    }
     std::printf("time: %.3f ms\n", 1e3 * r.seconds);
     if (print_solution) {
       auto print = [](const char* name, const Eigen::VectorXd& v) {

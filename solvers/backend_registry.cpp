@@ -20,13 +20,14 @@
 namespace bivo::solvers {
 namespace {
 
-template <class Backend>
-BackendInfo step_backend(const std::string& name, const std::string& description) {
+template <class Backend, class... Args>
+BackendInfo step_backend(const std::string& name, const std::string& description, Args... args) {
   BackendInfo info;
   info.name = name;
   info.description = description;
-  info.make_step = [] { return std::unique_ptr<StepBackend>(new Backend()); };
-  const Backend probe;
+  info.make_step = [args...] { return std::unique_ptr<StepBackend>(new Backend(args...)); };
+  const Backend probe(args...);
+  if (probe.name() != name) throw Error("backend registry: '" + name + "' constructs '" + probe.name() + "'");
   info.weighted_sum = probe.supports(ScalarizationKind::kWeightedSum);
   info.epsilon_constraint = probe.supports(ScalarizationKind::kEpsilonConstraint);
   return info;
@@ -58,9 +59,15 @@ std::vector<BackendInfo> build_registry() {
       [] { return make_ceres_backend(); }));
   // ---- conic/NLP backends (issue 5): registered by their owner ----
   r.push_back(step_backend<IpmFullBackend>(
-      "ipm-full", "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of dimension n+1"));
+      "ipm-full", "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of dimension n+1, active-set Newton polish"));
   r.push_back(step_backend<IpmCompressedBackend>(
       "ipm-compressed", "own conic IPM, cones compressed to 7 by QR/Gram factors, floor outside the cone"));
+  r.push_back(step_backend<IpmFullBackend>(
+      "ipm-full-nopolish", "ipm-full without the active-set Newton polish: the interior-point iterations alone",
+      conic::unpolished_step_ipm_settings()));
+  r.push_back(step_backend<IpmCompressedBackend>(
+      "ipm-compressed-nopolish", "ipm-compressed without the active-set Newton polish",
+      conic::unpolished_step_ipm_settings()));
   r.push_back(step_backend<IpoptQcqpBackend>(
       "ipopt", "Ipopt (MUMPS) on the scaled QCQP step, exact Hessian, bound_relax_factor = 0"));
   r.push_back(step_backend<NloptSlsqpBackend>(

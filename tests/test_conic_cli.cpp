@@ -55,7 +55,12 @@ TEST(ConicCli, SolvesDenseAndTripletFormats) {
           "h": [0, -3, -4], "cones": {"q": [3]}})");
   r = run(soc);
   EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(objective(r.out), 6.0 / std::sqrt(2.0), 1e-12) << r.out;  // polished: to rounding
+  EXPECT_NE(r.out.find("then polished"), std::string::npos) << r.out;
+  r = run(soc + " --no-polish");
+  EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NEAR(objective(r.out), 6.0 / std::sqrt(2.0), 1e-7) << r.out;
+  EXPECT_EQ(r.out.find("polished"), std::string::npos) << r.out;
 }
 
 TEST(ConicCli, BadInputIsAnErrorNamingTheFault) {

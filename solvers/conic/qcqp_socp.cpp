@@ -55,7 +55,7 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
   s.ipm_status = r.status;
   s.reduced_accuracy = r.reduced_accuracy;
   s.mu = radius > 0.0 ? std::max(0.0, r.z[cone2_head]) * e1_norm_at_d / radius : 0.0;
-  s.status = to_string(r.status) + (r.reduced_accuracy ? " (reduced accuracy)" : "");
+  s.status = to_string(r.status) + (r.reduced_accuracy ? " (reduced accuracy)" : "") + (r.polished ? " (polished)" : "");
   return s;
 }
 
@@ -63,9 +63,15 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
 
 IpmSettings step_ipm_settings() {
   IpmSettings s;
-  s.feastol = 1e-9;
+  s.feastol = 1e-8;
   s.abstol = 0.0;
   s.reltol = 1e-11;
+  return s;
+}
+
+IpmSettings unpolished_step_ipm_settings() {
+  IpmSettings s = step_ipm_settings();
+  s.polish = false;
   return s;
 }
 

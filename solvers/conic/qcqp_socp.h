@@ -25,6 +25,8 @@ namespace bivo::solvers::conic {
 // step. Steps ask for gap 1e-11 relative, feasibility 1e-9 (the KKT solves of cones of
 // dimension n+1 stop resolving residuals much below that).
 IpmSettings step_ipm_settings();
+// The same without polishing (polish.h): the interior-point iterations alone, as ECOS runs.
+IpmSettings unpolished_step_ipm_settings();
 
 // m(d) = ||R d + c||^2 + floor, floor = min_d m(d) >= 0.
 struct ConeFactor {

@@ -13,7 +13,8 @@ namespace bivo::solvers {
 class IpmCompressedBackend final : public StepBackend {
  public:
   explicit IpmCompressedBackend(conic::IpmSettings settings = conic::step_ipm_settings()) : settings_(settings) {}
-  std::string name() const override { return "ipm-compressed"; }
+  // "ipm-compressed", or "ipm-compressed-nopolish" when the settings turn polishing off (the IPM alone).
+  std::string name() const override { return settings_.polish ? "ipm-compressed" : "ipm-compressed-nopolish"; }
   bool supports(ScalarizationKind kind) const override { return kind == ScalarizationKind::kEpsilonConstraint; }
   StepResult solve(const Subproblem& subproblem) override;
 

@@ -12,7 +12,8 @@ namespace bivo::solvers {
 class IpmFullBackend final : public StepBackend {
  public:
   explicit IpmFullBackend(conic::IpmSettings settings = conic::step_ipm_settings()) : settings_(settings) {}
-  std::string name() const override { return "ipm-full"; }
+  // "ipm-full", or "ipm-full-nopolish" when the settings turn polishing off (the IPM alone).
+  std::string name() const override { return settings_.polish ? "ipm-full" : "ipm-full-nopolish"; }
   bool supports(ScalarizationKind kind) const override { return kind == ScalarizationKind::kEpsilonConstraint; }
   bool needs_full_residuals() const override { return true; }
   // Throws bivo::Error for a weighted-sum subproblem or missing full residuals.
