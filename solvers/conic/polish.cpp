@@ -82,7 +82,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   const double nc = 1.0 + sp_.c.lpNorm<Eigen::Infinity>(), nbv = 1.0 + sp_.b.lpNorm<Eigen::Infinity>(),
                nh = 1.0 + sp_.h.lpNorm<Eigen::Infinity>();
 
-  Eigen::VectorXd s(m), F(N), best = u, js;
+  Eigen::VectorXd s(m), F(N), best, js;
   Eigen::MatrixXd a(n, nb), M(N, N);
   double best_merit = std::numeric_limits<double>::infinity();
   // Residuals at u: s = h - G x, the a_k, F = (F1, F2, -psi, -s_apex) (Newton: M du = -F).
@@ -116,24 +116,16 @@ bool Polisher::polish(const Variables& v, Variables& out) {
                      p > 0 ? F.segment(n, p).lpNorm<Eigen::Infinity>() / nbv : 0.0, merit_psi, merit_apex / nh});
   };
 
-  // Newton until the residual stops falling (quadratic convergence, then rounding) or a step
-  // no longer moves u; the best point is kept.
-  bool last = false;
-  double prev_merit = std::numeric_limits<double>::infinity();
-  bool evaluated_best = false;  // s and a currently belong to `best`
-  for (int step = 0;; ++step) {
-    const double merit = evaluate(u);
-    if (!std::isfinite(merit)) break;
-    evaluated_best = merit < best_merit;
-    if (evaluated_best) {
-      best_merit = merit;
-      best = u;
-    }
-    if (last || merit <= 1e-15 || step == settings_.max_newton_steps) break;
-    // Stop when the residual grows, or stalls at the rounding level (far from the solution a
-    // Newton step may reduce it only a little: go on there).
-    if (step > 0 && (merit > prev_merit || (merit > 0.5 * prev_merit && merit < 1e-8))) break;
-    prev_merit = merit;
+  // Newton with backtracking on the merit until it stops falling (quadratic convergence,
+  // then rounding) or a step no longer moves u. Far from the solution (the first tries start
+  // at a relative gap of 0.1) a full step can overshoot: halve it up to 4 times. Near the
+  // rounding level a step must halve the merit or Newton is done.
+  double merit = evaluate(u);
+  best_merit = merit;
+  best = u;
+  bool evaluated_best = true;  // s and a currently belong to `best`
+  Eigen::VectorXd trial(N);
+  for (int step = 0; std::isfinite(merit) && merit > 1e-15 && step < settings_.max_newton_steps; ++step) {
     M.setZero();
     for (int b = 0; b < nb; ++b) M.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
     if (p > 0) {
@@ -149,9 +141,28 @@ bool Polisher::polish(const Variables& v, Variables& out) {
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
     if (!lu.isInvertible()) return false;
     const Eigen::VectorXd du = lu.solve(F);
-    u -= du;
+    const bool near = merit < 1e-8;
+    bool accepted = false;
+    double t = 1.0, taken = 0.0;
+    for (int halving = 0; halving < (near ? 1 : 5) && !accepted; ++halving, t *= 0.5) {
+      trial = u - t * du;
+      const double m_trial = evaluate(trial);
+      evaluated_best = false;
+      accepted = std::isfinite(m_trial) && m_trial < (near ? 0.5 : 1.0) * merit;
+      if (accepted) {
+        u.swap(trial);
+        merit = m_trial;
+        taken = t;
+      }
+    }
+    if (!accepted) break;
     newton_steps_ = step + 1;
-    last = du.lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + u.lpNorm<Eigen::Infinity>());
+    if (merit < best_merit) {
+      best_merit = merit;
+      best = u;
+      evaluated_best = true;
+    }
+    if (taken == 1.0 && du.lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + u.lpNorm<Eigen::Infinity>())) break;
   }
   if (!std::isfinite(best_merit)) return false;
   if (!evaluated_best) evaluate(best);
