@@ -58,9 +58,21 @@ void Polisher::classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z) {
 bool Polisher::polish(const Variables& v, Variables& out) {
   newton_steps_ = 0;
   if (!(v.tau > 0.0)) return false;
-  const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   const Eigen::VectorXd s0 = v.s / v.tau, z0 = v.z / v.tau;
   classify(s0, z0);
+  if (solve_guess(v, s0, z0, out)) return true;
+  // s and z come in different units (equilibration balances G, not s against z): a second
+  // guess compares them relative to their own largest entries, if that guess differs.
+  const double s_scale = s0.lpNorm<Eigen::Infinity>(), z_scale = z0.lpNorm<Eigen::Infinity>();
+  if (!(s_scale > 0.0) || !(z_scale > 0.0)) return false;
+  const std::vector<Kind> orthant = orthant_kind_, soc = soc_kind_;
+  classify(s0 / s_scale, z0 / z_scale);
+  if (orthant == orthant_kind_ && soc == soc_kind_) return false;
+  return solve_guess(v, s0, z0, out);
+}
+
+bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out) {
+  const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   const int nb = static_cast<int>(boundary_.size()), na = static_cast<int>(apex_rows_.size());
   const int N = n + p + nb + na;
   if (N > settings_.max_system_size) return false;

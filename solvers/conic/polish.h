@@ -4,7 +4,8 @@
 // Near the optimum the iterate tells which cone constraints are active. Per orthant entry
 // and per second-order cone eigen-pair (s and z share a Jordan frame on the central path;
 // the small eigenvalue of s pairs with the large one of z) the larger of the two survives,
-// the same rule as s_i < z_i on the orthant. Each cone is then one of
+// the same rule as s_i < z_i on the orthant (first in the iterate's units, then, if that
+// guess fails and differs, with s and z each divided by its largest entry). Each cone is one of
 //   inactive  : z = 0, s interior;
 //   boundary  : s, z != 0 both on the boundary, z = lambda J s (J = diag(1, -I)), one
 //               scalar unknown lambda and one equation psi(s) = s^T J s / 2 = 0;
@@ -56,6 +57,8 @@ class Polisher {
   enum class Kind { kInactive, kBoundary, kApex };
   void set_up();  // grams and head rows, on first use
   void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z);
+  // Newton on the current guess, from the iterate (x, y)/tau and s0, z0 = (s, z)/tau.
+  bool solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out);
 
   const ConicProblem& sp_;
   const ConstraintMatrix& G_;
