@@ -72,6 +72,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
 }
 
 bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out) {
+  newton_steps_ = 0;
   const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   const int nb = static_cast<int>(boundary_.size()), na = static_cast<int>(apex_rows_.size());
   const int N = n + p + nb + na;
