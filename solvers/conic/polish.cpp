@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <Eigen/LU>
 
@@ -95,9 +94,8 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
   const double nc = 1.0 + sp_.c.lpNorm<Eigen::Infinity>(), nbv = 1.0 + sp_.b.lpNorm<Eigen::Infinity>(),
                nh = 1.0 + sp_.h.lpNorm<Eigen::Infinity>();
 
-  Eigen::VectorXd s(m), F(N), best, js;
+  Eigen::VectorXd s(m), F(N), js;
   Eigen::MatrixXd a(n, nb), M(N, N);
-  double best_merit = std::numeric_limits<double>::infinity();
   // Residuals at u: s = h - G x, the a_k, F = (F1, F2, -psi, -s_apex) (Newton: M du = -F).
   auto evaluate = [&](const Eigen::VectorXd& uu) {
     const auto x = uu.head(n);
@@ -132,11 +130,10 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
   // Newton with backtracking on the merit until it stops falling (quadratic convergence,
   // then rounding) or a step no longer moves u. Far from the solution (the first tries start
   // at a relative gap of 0.1) a full step can overshoot: halve it up to 4 times. Near the
-  // rounding level a step must halve the merit or Newton is done.
+  // rounding level a step must halve the merit or Newton is done. Only improving steps are
+  // taken, so u is always the best point so far.
   double merit = evaluate(u);
-  best_merit = merit;
-  best = u;
-  bool evaluated_best = true;  // s and a currently belong to `best`
+  bool evaluated_u = true;  // s, a and F currently belong to u (not to a rejected trial)
   Eigen::VectorXd trial(N);
   for (int step = 0; std::isfinite(merit) && merit > 1e-15 && step < settings_.max_newton_steps; ++step) {
     M.setZero();
@@ -160,7 +157,6 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
     for (int halving = 0; halving < (near ? 1 : 5) && !accepted; ++halving, t *= 0.5) {
       trial = u - t * du;
       const double m_trial = evaluate(trial);
-      evaluated_best = false;
       accepted = std::isfinite(m_trial) && m_trial < (near ? 0.5 : 1.0) * merit;
       if (accepted) {
         u.swap(trial);
@@ -168,27 +164,23 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
         taken = t;
       }
     }
+    evaluated_u = accepted;
     if (!accepted) break;
     newton_steps_ = step + 1;
-    if (merit < best_merit) {
-      best_merit = merit;
-      best = u;
-      evaluated_best = true;
-    }
     if (taken == 1.0 && du.lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + u.lpNorm<Eigen::Infinity>())) break;
   }
-  if (!std::isfinite(best_merit)) return false;
-  if (!evaluated_best) evaluate(best);
+  if (!std::isfinite(merit)) return false;
+  if (!evaluated_u) evaluate(u);
 
   // Assemble (x, y, s, z); the guess was wrong if a multiplier or slack leaves its cone.
-  out.x = best.head(n);
-  out.y = best.segment(n, p);
+  out.x = u.head(n);
+  out.y = u.segment(n, p);
   out.s = s;
   out.z = Eigen::VectorXd::Zero(m);
   out.tau = 1.0;
   out.kappa = 0.0;
   for (int a_i = 0; a_i < na; ++a_i) {
-    out.z[apex_rows_[a_i]] = best[n + p + nb + a_i];
+    out.z[apex_rows_[a_i]] = u[n + p + nb + a_i];
     out.s[apex_rows_[a_i]] = 0.0;
   }
   for (int i = 0; i < cones_.spec().nonnegative; ++i) {
@@ -196,7 +188,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
   }
   for (int b = 0; b < nb; ++b) {
     const int k = boundary_[b], o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-    const double lambda = best[n + p + b];
+    const double lambda = u[n + p + b];
     const double ns1 = out.s.segment(o + 1, d - 1).norm();
     if (!(lambda >= 0.0) || !(out.s[o] > 0.0)) return false;
     out.s[o] = std::max(out.s[o], ns1);  // on the boundary up to rounding
