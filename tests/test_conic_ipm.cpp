@@ -329,7 +329,63 @@ TEST(ConstraintMatrix, EveryLayoutMultipliesLikeTheDenseMatrix) {
     M.add_multiply_transpose(0.5, v, acc_t);
     EXPECT_LT((acc_x - (Eigen::VectorXd::Ones(sh.rows) - 2.0 * D * x)).norm(), 1e-12 * (1 + acc_x.norm()));
     EXPECT_LT((acc_t - (Eigen::VectorXd::Ones(sh.cols) + 0.5 * D.transpose() * v)).norm(), 1e-12 * (1 + acc_t.norm()));
+    // Row blocks (a cone's rows): G_b^T w, the block itself, its Gram matrix (cached: asked
+    // twice, the same object).
+    const int b0 = 3, nb = 11;
+    const Eigen::VectorXd w = v.segment(b0, nb);
+    Eigen::VectorXd acc_b = Eigen::VectorXd::Ones(sh.cols);
+    M.add_rows_multiply_transpose(b0, nb, 2.0, w, acc_b);
+    const Eigen::MatrixXd Db = D.middleRows(b0, nb);
+    EXPECT_LT((acc_b - (Eigen::VectorXd::Ones(sh.cols) + 2.0 * Db.transpose() * w)).norm(), 1e-12 * (1 + acc_b.norm()));
+    EXPECT_EQ((M.dense_rows(b0, nb) - Db).norm(), 0.0);
+    EXPECT_EQ((Eigen::MatrixXd(M.sparse_rows(b0, nb)) - Db).norm(), 0.0);
+    const SparseMatrix& gram = M.gram(b0, nb);
+    EXPECT_LT((Eigen::MatrixXd(gram) - Db.transpose() * Db).norm(), 1e-12 * (1 + gram.norm()));
+    EXPECT_EQ(&M.gram(b0, nb), &gram);
   }
+}
+
+TEST(Equilibration, ScalesRowsAndColumnsToUnitNormAndKeepsConesInvariant) {
+  // Badly scaled data (entries over 1e-3 .. 1e3): after Ruiz every column and row norm of the
+  // scaled [A; G] is near 1 (a cone's rows as one group), each cone has one row factor, and the
+  // scaled problem is exactly (Ea A D, Eg G D, D c, Ea b, Eg h) of the original.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> expo(-3.0, 3.0);
+  ConicProblem p;
+  p.cones.nonnegative = 3;
+  p.cones.soc = {4, 5};
+  const int n = 6, m = 12;
+  p.A = random_sparse(2, n, 0.9, rng);
+  p.G = random_sparse(m, n, 0.8, rng);
+  for (int j = 0; j < n; ++j) {
+    const double cs = std::pow(10.0, expo(rng));
+    for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) it.valueRef() *= cs * std::pow(10.0, expo(rng) / 3);
+    for (SparseMatrix::InnerIterator it(p.A, j); it; ++it) it.valueRef() *= cs;
+  }
+  p.c = Eigen::VectorXd::LinSpaced(n, 1.0, 6.0);
+  p.b = Eigen::Vector2d(1.0, -2.0);
+  p.h = Eigen::VectorXd::LinSpaced(m, -1.0, 5.0);
+  ConicProblem q = p;
+  const Equilibration e = equilibrate(q, 12);
+  const Eigen::MatrixXd A = Eigen::MatrixXd(p.A), G = Eigen::MatrixXd(p.G);
+  const Eigen::MatrixXd As = Eigen::MatrixXd(q.A), Gs = Eigen::MatrixXd(q.G);
+  EXPECT_LT((As - e.row_eq.asDiagonal() * A * e.col.asDiagonal()).norm(), 1e-12 * As.norm());
+  EXPECT_LT((Gs - e.row_cone.asDiagonal() * G * e.col.asDiagonal()).norm(), 1e-12 * Gs.norm());
+  EXPECT_LT((q.c - e.col.cwiseProduct(p.c)).norm(), 1e-12 * q.c.norm());
+  EXPECT_LT((q.b - e.row_eq.cwiseProduct(p.b)).norm(), 1e-12 * q.b.norm());
+  EXPECT_LT((q.h - e.row_cone.cwiseProduct(p.h)).norm(), 1e-12 * q.h.norm());
+  Eigen::MatrixXd stacked(2 + m, n);
+  stacked << As, Gs;
+  for (int j = 0; j < n; ++j) EXPECT_NEAR(stacked.col(j).cwiseAbs().maxCoeff(), 1.0, 0.05) << "column " << j;
+  for (int i = 0; i < 2 + 3; ++i) EXPECT_NEAR(stacked.row(i).cwiseAbs().maxCoeff(), 1.0, 0.05) << "row " << i;
+  const int offsets[2] = {3, 7}, dims[2] = {4, 5};
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::VectorXd f = e.row_cone.segment(offsets[k], dims[k]);
+    EXPECT_EQ(f.maxCoeff(), f.minCoeff()) << "cone " << k;
+    EXPECT_NEAR(Gs.middleRows(offsets[k], dims[k]).cwiseAbs().maxCoeff(), 1.0, 0.05) << "cone " << k;
+  }
+  // Before scaling the norms spread over orders of magnitude (the test data is really bad).
+  EXPECT_GT(G.cwiseAbs().maxCoeff() / G.cwiseAbs().colwise().maxCoeff().minCoeff(), 1e2);
 }
 
 TEST(ConicIpm, UncompressedInputSolvesLikeCompressed) {
