@@ -14,6 +14,7 @@
 namespace {
 
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 
 const std::string kSequence = std::string(BIVO_SHARED_DIR) + "/data/tum/rgbd_dataset_freiburg1_desk";
 

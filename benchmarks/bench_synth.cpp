@@ -2,8 +2,8 @@
 // and supersampling factor; scene construction (textures) is measured separately.
 #include <benchmark/benchmark.h>
 
-#include "odometry/synth_render.h"
-#include "odometry/synth_scene.h"
+#include "odometry/synth/render.h"
+#include "odometry/synth/scene.h"
 
 namespace synth = bivo::odometry::synth;
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/result_table.h"
-#include "odometry/atomic_file.h"
-#include "odometry/trajectory.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -68,7 +68,7 @@ MethodMatrix run_matrix(const MatrixOptions& options) {
       }
       if (!options.trajectory_dir.empty()) {
         std::filesystem::create_directories(options.trajectory_dir);
-        odometry::write_tum_trajectory(options.trajectory_dir + "/" + cell.sequence + "__" + m.method +
+        odometry::io::write_tum_trajectory(options.trajectory_dir + "/" + cell.sequence + "__" + m.method +
                                            (m.backend.empty() ? "" : "-" + m.backend) + ".txt",
                                        cell.run->trajectory);
       }
@@ -76,12 +76,12 @@ MethodMatrix run_matrix(const MatrixOptions& options) {
         cell.note = "no groundtruth.txt";
       } else {
         try {
-          cell.rpe = odometry::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
+          cell.rpe = odometry::io::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
         } catch (const Error& e) {
           cell.note = std::string("no RPE: ") + e.what();
         }
         try {
-          cell.ate = odometry::absolute_trajectory_error(*cell.run->groundtruth, cell.run->trajectory);
+          cell.ate = odometry::io::absolute_trajectory_error(*cell.run->groundtruth, cell.run->trajectory);
         } catch (const Error& e) {
           cell.note += std::string(cell.note.empty() ? "" : "; ") + "no ATE: " + e.what();
         }
@@ -199,7 +199,7 @@ std::string matrix_markdown(const MethodMatrix& m) {
 std::string write_matrix(const MethodMatrix& m, const std::string& dir) {
   std::filesystem::create_directories(dir);
   auto write = [&](const std::string& name, const std::string& text) {
-    odometry::write_file_atomically(dir + "/" + name, [&](std::ostream& o) { o << text; });
+    odometry::io::write_file_atomically(dir + "/" + name, [&](std::ostream& o) { o << text; });
   };
   const std::string md = matrix_markdown(m);
   write("rpe_trans.md", rpe_trans_table(m).markdown());

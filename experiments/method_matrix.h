@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "experiments/sequence_runner.h"
-#include "odometry/metrics.h"
+#include "odometry/io/metrics.h"
 
 namespace bivo::experiments {
 
@@ -35,8 +35,8 @@ struct MatrixCell {
   MethodSpec spec;
   std::string backend;  // effective
   std::optional<RunOutcome> run;
-  std::optional<odometry::RpeResult> rpe;
-  std::optional<odometry::AteResult> ate;
+  std::optional<odometry::io::RpeResult> rpe;
+  std::optional<odometry::io::AteResult> ate;
   std::string note;     // why rpe/ate/run is missing
 };
 

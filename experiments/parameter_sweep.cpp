@@ -9,8 +9,8 @@
 
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
-#include "odometry/atomic_file.h"
-#include "odometry/metrics.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/metrics.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -44,7 +44,7 @@ SweepResult run_sweep(const SweepOptions& o) {
       req.label = std::filesystem::path(dir).filename().string() + " " + what;
       RunOutcome run = run_sequence(req);
       if (!run.groundtruth) throw Error("sweep: sequence '" + dir + "' has no groundtruth.txt");
-      return std::make_pair(odometry::relative_pose_error(*run.groundtruth, run.trajectory), run);
+      return std::make_pair(odometry::io::relative_pose_error(*run.groundtruth, run.trajectory), run);
     };
     RunRequest single = base;
     single.tracker.method = "single";
@@ -114,11 +114,11 @@ std::string write_sweep(const SweepResult& r, const std::string& dir) {
     md << "\nLeft out:\n\n";
     for (const auto& n : r.notes) md << "- " << n << "\n";
   }
-  odometry::write_file_atomically(dir + "/sweep.csv", [&](std::ostream& o) { o << csv.str(); });
-  odometry::write_file_atomically(dir + "/sweep.json", [&](std::ostream& o) {
+  odometry::io::write_file_atomically(dir + "/sweep.csv", [&](std::ostream& o) { o << csv.str(); });
+  odometry::io::write_file_atomically(dir + "/sweep.json", [&](std::ostream& o) {
     o << nlohmann::json{{"points", j}, {"notes", r.notes}}.dump(2) << "\n";
   });
-  odometry::write_file_atomically(dir + "/sweep.md", [&](std::ostream& o) { o << md.str(); });
+  odometry::io::write_file_atomically(dir + "/sweep.md", [&](std::ostream& o) { o << md.str(); });
   return md.str();
 }
 

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "odometry/pose_error.h"
+#include "odometry/io/pose_error.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
@@ -22,7 +22,7 @@ StudyPoint evaluate(odometry::RgbdOdometryProblem& problem, const Eigen::Isometr
   p.f_i = problem.last_stats().f_intensity;
   p.f_d = problem.last_stats().f_depth;
   p.T_21 = T;
-  if (truth) p.error = odometry::pose_error(T, *truth);
+  if (truth) p.error = odometry::io::pose_error(T, *truth);
   return p;
 }
 

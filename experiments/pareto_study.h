@@ -30,7 +30,7 @@ struct StudyPoint {
   double parameter = 0;  // lambda or epsilon
   std::string method;    // for method picks
   Eigen::Isometry3d T_21 = Eigen::Isometry3d::Identity();
-  std::optional<odometry::PoseError> error;
+  std::optional<odometry::io::PoseError> error;
 };
 
 struct ParetoStudy {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "odometry/atomic_file.h"
+#include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -30,7 +30,7 @@ std::string plots_dir() {
 void plot(const std::string& script, const std::vector<std::string>& args) {
   const std::string python = "/usr/bin/python3";
   if (::access(python.c_str(), X_OK) != 0) throw Error("plotting needs " + python + " (with matplotlib)");
-  const std::string log = odometry::temporary_path_for("/tmp/bivo_plot_stderr");
+  const std::string log = odometry::io::temporary_path_for("/tmp/bivo_plot_stderr");
   std::string cmd = python + " " + shell_quote(plots_dir() + "/" + script);
   for (const auto& a : args) cmd += " " + shell_quote(a);
   cmd += " 2>" + shell_quote(log);

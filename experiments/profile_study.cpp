@@ -8,7 +8,7 @@
 
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
-#include "odometry/atomic_file.h"
+#include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -171,9 +171,9 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
     if (!r.note.empty()) md << "\n- " << r.method << " (" << r.backend << "): " << r.note;
   }
   md << "\n";
-  odometry::write_file_atomically(dir + "/profile.md", [&](std::ostream& o) { o << md.str(); });
-  odometry::write_file_atomically(dir + "/profile.csv", [&](std::ostream& o) { o << csv.str(); });
-  odometry::write_file_atomically(dir + "/profile.json", [&](std::ostream& o) { o << j.dump(2) << "\n"; });
+  odometry::io::write_file_atomically(dir + "/profile.md", [&](std::ostream& o) { o << md.str(); });
+  odometry::io::write_file_atomically(dir + "/profile.csv", [&](std::ostream& o) { o << csv.str(); });
+  odometry::io::write_file_atomically(dir + "/profile.json", [&](std::ostream& o) { o << j.dump(2) << "\n"; });
   return md.str();
 }
 

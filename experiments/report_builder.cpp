@@ -11,8 +11,8 @@
 
 #include "experiments/pareto_study.h"
 #include "experiments/plotting.h"
-#include "odometry/atomic_file.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -144,7 +144,7 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
       try {
         const ParetoStudy s = run_pareto_study(po);
         const std::string json = dir + "/pareto/" + result.matrix.sequences[c] + ".json";
-        odometry::write_file_atomically(json, [&](std::ostream& out) { out << pareto_json(s); });
+        odometry::io::write_file_atomically(json, [&](std::ostream& out) { out << pareto_json(s); });
         md << "### " << result.matrix.sequences[c] << ", pair " << s.pair << "\n\n";
         md << "| point | F_I | F_D | translation error [mm] |\n|---|---:|---:|---:|\n";
         auto row = [&](const std::string& name, const StudyPoint& p) {
@@ -169,7 +169,7 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
         "Time per frame pair, median over all pairs (bars) and mean (black mark), loading excluded");
 
   result.report_path = dir + "/report.md";
-  odometry::write_file_atomically(result.report_path, [&](std::ostream& out) { out << md.str(); });
+  odometry::io::write_file_atomically(result.report_path, [&](std::ostream& out) { out << md.str(); });
   return result;
 }
 

@@ -6,9 +6,9 @@
 
 #include "experiments/progress_bar.h"
 #include "experiments/result_table.h"
-#include "odometry/atomic_file.h"
-#include "odometry/pose_error.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/pose_error.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -25,10 +25,10 @@ RunOutcome run_sequence(const RunRequest& request,
   options.max_frames = request.max_frames;
   odometry::validate(options);
   // Peek at the window's size for the progress bar; track_sequence re-checks it.
-  odometry::SequenceOptions so;
+  odometry::io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
-  const odometry::TumSequence seq = odometry::open_tum_sequence(request.sequence_dir, so);
+  const odometry::io::TumSequence seq = odometry::io::open_tum_sequence(request.sequence_dir, so);
   const int total = int(seq.frames.size());
   const int end = request.max_frames < 0 ? total : std::min(total, request.first_frame + request.max_frames);
   ProgressBar bar(request.label.empty() ? seq.name + " " + options.method : request.label,
@@ -71,7 +71,7 @@ std::string run_summary_line(const RunOutcome& run) {
 }
 
 void write_pair_log(const std::string& path, const RunOutcome& run) {
-  odometry::write_file_atomically(path, [&](std::ostream& o) {
+  odometry::io::write_file_atomically(path, [&](std::ostream& o) {
     o << "pair,t_reference,t_current,valid,iterations,ms,load_ms,lambda,epsilon,mu,epsilon_per_weight,f_i,f_d,"
          "trans_err_m,rot_err_deg,note\n";
     for (const auto& p : run.pairs) {

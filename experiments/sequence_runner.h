@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "odometry/tracker.h"
-#include "odometry/trajectory.h"
+#include "odometry/io/trajectory.h"
 #include "solvers/profiling.h"
 
 namespace bivo::experiments {
@@ -32,8 +32,8 @@ struct RunRequest {
 struct RunOutcome {
   std::string sequence;       // folder name
   std::string method, backend;
-  odometry::Trajectory trajectory;               // one pose per processed rgb frame
-  std::optional<odometry::Trajectory> groundtruth;
+  odometry::io::Trajectory trajectory;               // one pose per processed rgb frame
+  std::optional<odometry::io::Trajectory> groundtruth;
   std::vector<odometry::PairResult> pairs;
   solvers::PhaseProfile profile;                 // summed over pairs (loading excluded)
   int failures = 0;                              // pairs whose every level was skipped

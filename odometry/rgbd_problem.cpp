@@ -171,7 +171,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   }
   // Back-project the reference once per (pair, level): the per-iteration loop then only
   // transforms, projects and interpolates.
-  const Intrinsics& K = reference.K;
+  const io::Intrinsics& K = reference.K;
   const double ifx = 1.0 / K.fx, ify = 1.0 / K.fy;
   const std::size_t reserve = static_cast<std::size_t>(ri.width) * ri.height;
   px_.reserve(reserve);

@@ -45,7 +45,7 @@ ImageF downsample_depth(const ImageF& fine) {
   });
 }
 
-RgbdPyramid build_pyramid(const RgbdImage& image, const Intrinsics& K, int levels) {
+RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels) {
   if (levels < 1) throw Error("pyramid needs at least 1 level, got " + std::to_string(levels));
   const int cw = image.width >> (levels - 1), ch = image.height >> (levels - 1);
   if (cw < 8 || ch < 8) {

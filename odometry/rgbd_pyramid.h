@@ -4,8 +4,8 @@
 // valid (non-zero) ones and stays 0 (missing) when none of the four is valid.
 #include <vector>
 
-#include "odometry/camera_intrinsics.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/tum_dataset.h"
 
 namespace bivo::odometry {
 
@@ -22,7 +22,7 @@ struct RgbdLevel {
   int level = 0;
   ImageF intensity;  // 0..255
   ImageF depth;      // metres, 0 = missing
-  Intrinsics K;      // intrinsics of this level
+  io::Intrinsics K;      // intrinsics of this level
 };
 
 struct RgbdPyramid {
@@ -34,7 +34,7 @@ ImageF downsample_intensity(const ImageF& fine);
 ImageF downsample_depth(const ImageF& fine);
 
 // Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8.
-RgbdPyramid build_pyramid(const RgbdImage& image, const Intrinsics& K, int levels);
+RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels);
 
 // Central-difference gradients (x: columns, y: rows), zero on the border; used for the
 // image statistics and for visualisation (the residual Jacobians differentiate the

@@ -75,7 +75,7 @@ void validate(const TrackerOptions& options) {
   }
 }
 
-PreparedFrame prepare_frame(const RgbdImage& image, const Intrinsics& K, int levels) {
+PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels) {
   PreparedFrame f;
   f.pyramid = build_pyramid(image, K, levels);
   f.statistics = frame_statistics(f.pyramid.levels[0]);
@@ -187,10 +187,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair) {
   validate(options);
-  SequenceOptions so;
+  io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
-  const TumSequence seq = open_tum_sequence(directory, so);
+  const io::TumSequence seq = io::open_tum_sequence(directory, so);
   const int total = static_cast<int>(seq.frames.size());
   const int first_index = options.first_frame;
   if (first_index + 1 >= total) {
@@ -204,7 +204,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   out.intrinsics = seq.intrinsics;
 
   auto t_load = Clock::now();
-  const RgbdImage first = load_rgbd_image(seq.frames[first_index]);
+  const io::RgbdImage first = io::load_rgbd_image(seq.frames[first_index]);
   const int width = first.width, height = first.height;
   double load_seconds = seconds_since(t_load);
   out.load_seconds += load_seconds;
@@ -214,14 +214,14 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
 
   Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
   if (options.start_at_groundtruth && seq.groundtruth) {
-    if (const auto T0 = interpolate_pose(*seq.groundtruth, seq.frames[first_index].rgb_time)) T_w_ref = *T0;
+    if (const auto T0 = io::interpolate_pose(*seq.groundtruth, seq.frames[first_index].rgb_time)) T_w_ref = *T0;
   }
   out.trajectory.push_back({seq.frames[first_index].rgb_time, T_w_ref});
 
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
   for (int k = first_index + 1; k < end; ++k) {
     t_load = Clock::now();
-    const RgbdImage image = load_rgbd_image(seq.frames[k], width, height);
+    const io::RgbdImage image = io::load_rgbd_image(seq.frames[k], width, height);
     load_seconds = seconds_since(t_load);
     out.load_seconds += load_seconds;
 
@@ -244,8 +244,8 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     const Eigen::Isometry3d T_w_cur = T_w_ref * pair.T_21.inverse();
     pair.T_wc = T_w_cur;
     if (seq.groundtruth) {
-      if (const auto gt = groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
-        pair.error = pose_error(pair.T_21, *gt);
+      if (const auto gt = io::groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
+        pair.error = io::pose_error(pair.T_21, *gt);
       }
     }
     out.trajectory.push_back({seq.frames[k].rgb_time, T_w_cur});
@@ -278,10 +278,10 @@ double FramePair::epsilon_per_weight(const TrackerOptions& options) const {
 
 FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
                           const TrackerOptions& options) {
-  SequenceOptions so;
+  io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
-  const TumSequence seq = open_tum_sequence(directory, so);
+  const io::TumSequence seq = io::open_tum_sequence(directory, so);
   const int n = static_cast<int>(seq.frames.size());
   for (int i : {reference_index, current_index}) {
     if (i < 0 || i >= n) {
@@ -293,12 +293,12 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   p.sequence = seq.name;
   p.reference_frame = seq.frames[reference_index];
   p.current_frame = seq.frames[current_index];
-  const RgbdImage a = load_rgbd_image(p.reference_frame);
-  const RgbdImage b = load_rgbd_image(p.current_frame, a.width, a.height);
+  const io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
+  const io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
   p.reference = prepare_frame(a, seq.intrinsics, options.levels);
   p.current = prepare_frame(b, seq.intrinsics, options.levels);
   if (seq.groundtruth) {
-    p.groundtruth_T21 = groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
+    p.groundtruth_T21 = io::groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
   }
   return p;
 }

@@ -7,13 +7,13 @@
 //   opt.method = "bounded";  opt.levels = 4;
 //   TrackResult r = track_sequence("/data/tum/rgbd_dataset_freiburg1_rpy", opt,
 //                                  [](const PairResult& p) { /* log p.iterations, p.lambda... */ });
-//   write_tum_trajectory("estimate.txt", r.trajectory);
+//   io::write_tum_trajectory("estimate.txt", r.trajectory);
 //
 //   // One pair, one level (per-pair Pareto fronts): the problem refers into `pair`.
 //   FramePair pair = load_frame_pair(seq_dir, i, i + 1, opt);
 //   auto problem = pair.problem(level, opt);       // RgbdOdometryProblem
 //   double lambda = pair.lambda(opt);               // what the method would use
-//   PoseError e = pose_error(T_21_estimate, *pair.groundtruth_T21);
+//   io::PoseError e = io::pose_error(T_21_estimate, *pair.groundtruth_T21);
 //
 // Frames are streamed: a run holds only the pair it works on. A pyramid level without
 // enough valid pixels is skipped (noted in LevelResult); when every level is skipped the
@@ -27,14 +27,14 @@
 
 #include <Eigen/Geometry>
 
-#include "odometry/camera_intrinsics.h"
+#include "odometry/io/camera_intrinsics.h"
 #include "odometry/image_statistics.h"
 #include "odometry/odometry_methods.h"
-#include "odometry/pose_error.h"
+#include "odometry/io/pose_error.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/rgbd_pyramid.h"
-#include "odometry/trajectory.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/trajectory.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/profiling.h"
 
 namespace bivo::odometry {
@@ -56,7 +56,7 @@ struct TrackerOptions {
   int min_valid_pixels = 200;       // fewer valid terms at a level: the level is skipped
   RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion
   double max_association_dt = 0.02; // seconds
-  std::optional<Intrinsics> intrinsics;  // override of the sequence-name preset
+  std::optional<io::Intrinsics> intrinsics;  // override of the sequence-name preset
   int first_frame = 0;              // index of the first associated frame processed
   int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
@@ -95,13 +95,13 @@ struct PairResult {
   double load_seconds = 0.0;             // PNG decoding of the current frame
   solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
   std::vector<LevelResult> levels;       // coarse to fine
-  std::optional<PoseError> error;        // against ground truth, when available
+  std::optional<io::PoseError> error;        // against ground truth, when available
 };
 
 struct TrackResult {
   std::string sequence;
-  Intrinsics intrinsics;
-  Trajectory trajectory;                 // one pose per frame, T_wc
+  io::Intrinsics intrinsics;
+  io::Trajectory trajectory;                 // one pose per frame, T_wc
   std::vector<PairResult> pairs;
   solvers::PhaseProfile profile;         // summed over pairs (plus the first frame's pyramid)
   int invalid_pairs = 0;
@@ -119,7 +119,7 @@ struct PreparedFrame {
   RgbdPyramid pyramid;
   FrameStatistics statistics;
 };
-PreparedFrame prepare_frame(const RgbdImage& image, const Intrinsics& K, int levels);
+PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels);
 
 // Estimates T_21 from reference to current starting at `initial` (coarse to fine). The
 // result's timing fields cover the estimation only.
@@ -129,7 +129,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
 // Two frames of a sequence for per-pair studies (Pareto fronts, unit tests).
 struct FramePair {
   std::string sequence;
-  AssociatedFrame reference_frame, current_frame;
+  io::AssociatedFrame reference_frame, current_frame;
   PreparedFrame reference, current;
   std::optional<Eigen::Isometry3d> groundtruth_T21;
 

@@ -13,8 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/synth_sequence.h"
-#include "odometry/trajectory.h"
+#include "odometry/synth/sequence.h"
+#include "odometry/io/trajectory.h"
 
 namespace fs = std::filesystem;
 using namespace bivo;
@@ -90,8 +90,8 @@ TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
   EXPECT_TRUE(std::regex_search(r.out, line)) << r.out;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
 
-  const auto est = odometry::read_tum_trajectory((dir_ / "traj.txt").string());
-  const auto gt = odometry::read_tum_trajectory(sequence_ + "/groundtruth.txt");
+  const auto est = odometry::io::read_tum_trajectory((dir_ / "traj.txt").string());
+  const auto gt = odometry::io::read_tum_trajectory(sequence_ + "/groundtruth.txt");
   ASSERT_EQ(est.size(), 4u);
   // One pose per rgb frame at the frame's timestamp; the first one is the ground truth's.
   std::vector<double> rgb_stamps;
@@ -113,7 +113,7 @@ TEST_F(CliRun, StartFrameAndMaxFramesSelectTheWindow) {
       run_bivo("run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("frames=2 "), std::string::npos) << r.out;
-  EXPECT_EQ(odometry::read_tum_trajectory((dir_ / "t.txt").string()).size(), 2u);
+  EXPECT_EQ(odometry::io::read_tum_trajectory((dir_ / "t.txt").string()).size(), 2u);
 }
 
 TEST_F(CliRun, UnknownMethodListsTheValidOnes) {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/atomic_file.h"
-#include "odometry/trajectory.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
@@ -55,27 +55,27 @@ TEST(Se3, AmbientRoundTrip) {
 
 TEST(Trajectory, RoundTripAndNearest) {
   const std::string path = ::testing::TempDir() + "/traj.txt";
-  odometry::Trajectory t;
+  odometry::io::Trajectory t;
   for (int i = 0; i < 5; ++i) {
     se3::Vector6d xi = se3::Vector6d::Constant(0.01 * i);
     t.push_back({100.0 + 0.1 * i, se3::exp(xi)});
   }
-  odometry::write_tum_trajectory(path, t);
-  const auto r = odometry::read_tum_trajectory(path);
+  odometry::io::write_tum_trajectory(path, t);
+  const auto r = odometry::io::read_tum_trajectory(path);
   ASSERT_EQ(r.size(), t.size());
   for (size_t i = 0; i < t.size(); ++i) {
     EXPECT_NEAR(r[i].timestamp, t[i].timestamp, 1e-6);
     EXPECT_LT((r[i].T_wc.matrix() - t[i].T_wc.matrix()).norm(), 1e-8);
   }
-  EXPECT_EQ(odometry::nearest_pose(r, 100.21, 0.02), &r[2]);
-  EXPECT_EQ(odometry::nearest_pose(r, 100.25, 0.02), nullptr);
+  EXPECT_EQ(odometry::io::nearest_pose(r, 100.21, 0.02), &r[2]);
+  EXPECT_EQ(odometry::io::nearest_pose(r, 100.25, 0.02), nullptr);
 }
 
 TEST(Trajectory, MalformedLineNamesFileAndLine) {
   const std::string path = ::testing::TempDir() + "/bad.txt";
   std::ofstream(path) << "# header\r\n1.0 0 0 0 0 0 0 1\r\n2.0 0 0 zero 0 0 0 1\n";
   try {
-    odometry::read_tum_trajectory(path);
+    odometry::io::read_tum_trajectory(path);
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.txt:3"), std::string::npos) << e.what();
@@ -85,11 +85,11 @@ TEST(Trajectory, MalformedLineNamesFileAndLine) {
 TEST(AtomicFile, FailedWriteLeavesNoFile) {
   const std::string path = ::testing::TempDir() + "/atomic.txt";
   std::remove(path.c_str());
-  EXPECT_THROW(odometry::write_file_atomically(path, [](std::ostream& o) {
+  EXPECT_THROW(odometry::io::write_file_atomically(path, [](std::ostream& o) {
                  o << "half";
                  throw Error("boom");
                }),
                Error);
   EXPECT_FALSE(std::ifstream(path).good());
-  EXPECT_THROW(odometry::write_file_atomically("/nonexistent-dir/x.txt", [](std::ostream&) {}), Error);
+  EXPECT_THROW(odometry::io::write_file_atomically("/nonexistent-dir/x.txt", [](std::ostream&) {}), Error);
 }

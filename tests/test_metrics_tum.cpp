@@ -1,15 +1,16 @@
-// TUM RPE/ATE (odometry/metrics.h) against hand-built closed-form oracles: constant drift,
+// TUM RPE/ATE (odometry/io/metrics.h) against hand-built closed-form oracles: constant drift,
 // rigidly moved copies, known rotation drift, and an ATE whose optimal alignment is known.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "odometry/metrics.h"
+#include "odometry/io/metrics.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 namespace se3 = bivo::solvers::se3;
 
 namespace {

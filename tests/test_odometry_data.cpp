@@ -10,17 +10,18 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/camera_intrinsics.h"
+#include "odometry/io/camera_intrinsics.h"
 #include "odometry/image_statistics.h"
-#include "odometry/png_io.h"
+#include "odometry/io/png_io.h"
 #include "odometry/robust_weights.h"
 #include "odometry/rgbd_pyramid.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 #include "tests/test_support.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 namespace fs = std::filesystem;
 
 namespace {

@@ -9,12 +9,13 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/png_io.h"
+#include "odometry/io/png_io.h"
 #include "solvers/error.h"
 #include "tests/test_support.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 namespace fs = std::filesystem;
 
 namespace {

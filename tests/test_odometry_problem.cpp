@@ -10,15 +10,16 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include "odometry/pose_error.h"
+#include "odometry/io/pose_error.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/rgbd_pyramid.h"
-#include "odometry/tum_dataset.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 namespace se3 = bivo::solvers::se3;
 
 namespace {

@@ -15,6 +15,7 @@
 
 using namespace bivo;
 using namespace bivo::odometry;
+using namespace bivo::odometry::io;
 
 namespace {
 

@@ -4,13 +4,13 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/synth_motion.h"
+#include "odometry/synth/motion.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
 namespace synth = bivo::odometry::synth;
 namespace se3 = bivo::solvers::se3;
-using bivo::odometry::Trajectory;
+using bivo::odometry::io::Trajectory;
 
 TEST(SynthMotion, HandheldMotionHasTheTargetMeanSpeeds) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {

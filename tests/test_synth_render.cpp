@@ -9,9 +9,9 @@
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
-#include "odometry/synth_render.h"
-#include "odometry/synth_scene.h"
-#include "odometry/synth_texture.h"
+#include "odometry/synth/render.h"
+#include "odometry/synth/scene.h"
+#include "odometry/synth/texture.h"
 #include "solvers/error.h"
 
 namespace synth = bivo::odometry::synth;

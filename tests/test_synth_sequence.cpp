@@ -16,15 +16,15 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/png_io.h"
-#include "odometry/synth_sequence.h"
-#include "odometry/trajectory.h"
+#include "odometry/io/png_io.h"
+#include "odometry/synth/sequence.h"
+#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
 namespace fs = std::filesystem;
 namespace synth = bivo::odometry::synth;
-using bivo::odometry::Trajectory;
+using bivo::odometry::io::Trajectory;
 
 namespace {
 
@@ -36,8 +36,8 @@ fs::path fresh_dir(const std::string& tag) {
 }
 
 struct Frame {
-  bivo::odometry::Png8 rgb;
-  bivo::odometry::Png16 depth;
+  bivo::odometry::io::Png8 rgb;
+  bivo::odometry::io::Png16 depth;
   double gray(int u, int v) const {
     const std::uint8_t* p = &rgb.data[3 * (v * rgb.width + u)];
     return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
@@ -101,14 +101,14 @@ Medians warp_residuals(const Frame& f1, const Frame& f2, const Eigen::Isometry3d
 }
 
 Frame load(const fs::path& seq, const std::string& rgb_rel, const std::string& depth_rel) {
-  return {bivo::odometry::read_png8((seq / rgb_rel).string()), bivo::odometry::read_png16((seq / depth_rel).string())};
+  return {bivo::odometry::io::read_png8((seq / rgb_rel).string()), bivo::odometry::io::read_png16((seq / depth_rel).string())};
 }
 
 // Renders `frames` frames and checks every consecutive pair; returns the medians of the
 // pair medians with the true and with a perturbed (2 cm sideways and along the optical
 // axis, 1 degree of yaw) motion.
 void check_back_projection(const synth::SynthOptions& o, const fs::path& seq, Medians* truth, Medians* wrong) {
-  const Trajectory gt = bivo::odometry::read_tum_trajectory((seq / "groundtruth.txt").string());
+  const Trajectory gt = bivo::odometry::io::read_tum_trajectory((seq / "groundtruth.txt").string());
   const auto rgbs = list_column(seq / "associations.txt", 1), depths = list_column(seq / "associations.txt", 3);
   ASSERT_EQ(rgbs.size(), gt.size());
   std::vector<double> tz, ti, wz, wi;
@@ -167,7 +167,7 @@ TEST(SynthSequence, BackProjectionAlongRealTumTrajectory) {
   o.frames = 4;
   o.seed = 12;
   o.start_offset_s = 10.0;
-  const Trajectory motion = bivo::odometry::read_tum_trajectory(traj.string());
+  const Trajectory motion = bivo::odometry::io::read_tum_trajectory(traj.string());
   const fs::path seq = synth::render_sequence(o, motion, out.string(), traj.string());
   Medians truth, wrong;
   check_back_projection(o, seq, &truth, &wrong);
@@ -191,7 +191,7 @@ TEST(SynthSequence, GroundTruthFileHoldsThePosesRenderedWithRelativeMotionUnchan
   const Trajectory motion = synth::generate_handheld_motion(h);
   const fs::path seq = synth::render_sequence(o, motion, out.string(), "test motion");
   EXPECT_NE(seq.filename().string().find("freiburg3"), std::string::npos);
-  const Trajectory gt = bivo::odometry::read_tum_trajectory((seq / "groundtruth.txt").string());
+  const Trajectory gt = bivo::odometry::io::read_tum_trajectory((seq / "groundtruth.txt").string());
   const Trajectory planned = synth::frame_poses(o, synth::build_scene(o.category, o.seed), motion, "test motion");
   ASSERT_EQ(gt.size(), 5u);
   // Oracle for the relative motion: the raw motion interpolated directly (s = 0 at its samples).
@@ -271,7 +271,7 @@ TEST(SynthSequence, BadInputGivesClearErrorsAndNoFolder) {
   expect_error([] { synth::parse_category("wood_texture_near"); }, "wood_texture_near");
   expect_error([] { synth::parse_category("structure_texture"); }, "needs a distance");
   expect_error([] { synth::parse_category("structure_texture_near", "far"); }, "contradicts");
-  expect_error([] { bivo::odometry::read_tum_trajectory("/nonexistent/trajectory.txt"); }, "/nonexistent/trajectory.txt");
+  expect_error([] { bivo::odometry::io::read_tum_trajectory("/nonexistent/trajectory.txt"); }, "/nonexistent/trajectory.txt");
 
   synth::SynthOptions o;
   o.category = synth::parse_category("structure_texture_near");
@@ -304,7 +304,7 @@ TEST(SynthSequence, CommandLineContract) {
   ASSERT_EQ(std::system(ok.c_str()), 0) << ok;
   const fs::path seq = out / "rgbd_dataset_freiburg3_synth_structure_texture_near";
   EXPECT_EQ(list_column(seq / "rgb.txt", 1).size(), 3u);
-  EXPECT_EQ(bivo::odometry::read_tum_trajectory((seq / "groundtruth.txt").string()).size(), 3u);
+  EXPECT_EQ(bivo::odometry::io::read_tum_trajectory((seq / "groundtruth.txt").string()).size(), 3u);
 
   const auto fails_with = [&](const std::string& args, const std::string& needle) {
     const fs::path err = out / "stderr.txt";

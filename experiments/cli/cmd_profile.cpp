@@ -1,0 +1,36 @@
+// `bivo profile SEQUENCE_DIR [--methods M[:B]...] --output DIR`: time per phase, iterations
+// per level and the epsilon-constraint vs Gauss-Newton gap per level
+// (experiments/profile_study.h).
+#include <iostream>
+#include <memory>
+
+#include "experiments/cli/commands.h"
+#include "experiments/profile_study.h"
+
+namespace bivo::experiments::cli {
+
+void add_profile_command(CLI::App& app) {
+  struct Args {
+    ProfileOptions o;
+    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact"};
+    std::string output;
+    int levels = 4;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("profile", "Time per phase, iterations per level and the QCQP/SOCP vs Gauss-Newton gap");
+  cmd->add_option("sequence", a->o.sequence_dir, "TUM sequence folder")->required();
+  cmd->add_option("--methods", a->methods, "'method:backend' entries (single:gn is the reference)")
+      ->capture_default_str();
+  cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
+  cmd->add_option("--max-frames", a->o.max_frames, "frames per run")->capture_default_str();
+  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
+  cmd->callback([a] {
+    ProfileOptions o = a->o;
+    for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
+    o.tracker.levels = a->levels;
+    std::cout << write_profile(run_profile(o), a->output);
+  });
+}
+
+}  // namespace bivo::experiments::cli

@@ -1,0 +1,81 @@
+// `bivo synth`: renders one synthetic "Structure vs. Texture" RGB-D sequence in TUM format
+// along a real ground-truth trajectory (--trajectory) or generated hand-held motion.
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "experiments/cli/commands.h"
+#include "odometry/synth/sequence.h"
+#include "odometry/io/trajectory.h"
+#include "solvers/error.h"
+
+namespace bivo::experiments::cli {
+
+namespace {
+
+struct SynthArgs {
+  std::string category, distance, trajectory, output;
+  odometry::synth::SynthOptions options;
+  bool no_noise = false;
+};
+
+void run_synth(const SynthArgs& a) {
+  namespace synth = odometry::synth;
+  synth::SynthOptions o = a.options;
+  o.category = synth::parse_category(a.category, a.distance);
+  o.render.sensor_noise = !a.no_noise;
+  std::string path;
+  if (a.trajectory.empty()) {
+    path = synth::render_sequence(o, a.output);
+  } else {
+    path = synth::render_sequence(o, odometry::io::read_tum_trajectory(a.trajectory), a.output, a.trajectory);
+  }
+  std::cout << path << "\n";
+}
+
+}  // namespace
+
+void add_synth_command(CLI::App& app) {
+  auto args = std::make_shared<SynthArgs>();
+  auto& o = args->options;
+  auto* cmd = app.add_subcommand(
+      "synth", "Render a synthetic TUM-format RGB-D sequence (Structure vs. Texture) with exact ground truth");
+  cmd->add_option("--category", args->category,
+                  "structure_texture_near, ..., nostructure_notexture_far (or without _near/_far plus --distance)")
+      ->required();
+  cmd->add_option("--distance", args->distance, "near (1 m) or far (2 m), if not part of --category");
+  cmd->add_option("--trajectory", args->trajectory,
+                  "TUM ground-truth trajectory to follow (re-anchored rigidly); default: generated hand-held motion")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--frames", o.frames, "number of frames")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "seed of textures, sensor noise and generated motion")->capture_default_str();
+  cmd->add_option("--output", args->output, "parent folder; the sequence is written to OUTPUT/<sequence name>")
+      ->required();
+  cmd->add_option("--name", o.sequence_name, "sequence folder name (must contain 'freiburg3')");
+  cmd->add_option("--start", o.start_offset_s, "seconds after the trajectory's first pose to start")
+      ->capture_default_str();
+  cmd->add_option("--fps", o.fps, "frame rate [Hz]")->capture_default_str();
+  cmd->add_option("--supersampling", o.render.supersampling, "n x n colour samples per pixel")->capture_default_str();
+  cmd->add_option("--depth-noise", o.render.depth.noise_coeff, "depth noise sigma = c z^2: c [1/m]")
+      ->capture_default_str();
+  cmd->add_option("--disparity-step", o.render.depth.disparity_step_px, "disparity quantization step [px], 0 = off")
+      ->capture_default_str();
+  cmd->add_option("--max-range", o.render.depth.max_range_m, "largest measured depth [m]")->capture_default_str();
+  cmd->add_option("--read-noise", o.render.intensity.read_noise, "intensity read noise sigma [gray levels]")
+      ->capture_default_str();
+  cmd->add_option("--shot-noise", o.render.intensity.shot_noise_gain, "intensity shot-noise variance per gray level")
+      ->capture_default_str();
+  cmd->add_option("--exposure-jitter", o.render.intensity.exposure_jitter,
+                  "sigma of the per-frame log exposure gain (0 = constant exposure)")
+      ->capture_default_str();
+  cmd->add_option("--speed", o.handheld.mean_linear_speed_mps, "generated motion: mean linear speed [m/s]")
+      ->capture_default_str();
+  cmd->add_option("--angular-speed", o.handheld.mean_angular_speed_dps,
+                  "generated motion: mean angular speed [deg/s]")
+      ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "render threads (0 = one per hardware thread)")->capture_default_str();
+  cmd->add_flag("--no-noise", args->no_noise, "no random sensor noise and no disparity quantization");
+  cmd->callback([args] { run_synth(*args); });
+}
+
+}  // namespace bivo::experiments::cli

@@ -1,0 +1,45 @@
+// `bivo table --sequences DIR... [--methods M...] --output DIR`: methods x sequences ->
+// the paper's tables 1/2 (translational RPE m/s, best per column in bold) and table 3 (ms
+// per pair), as Markdown + CSV + JSON (experiments/method_matrix.h).
+#include <iostream>
+#include <memory>
+
+#include "experiments/cli/commands.h"
+#include "experiments/method_matrix.h"
+#include "odometry/odometry_methods.h"
+
+namespace bivo::experiments::cli {
+
+void add_table_command(CLI::App& app) {
+  struct Args {
+    std::vector<std::string> sequences;
+    std::vector<std::string> methods{"single", "tykkala", "weighted", "bounded"};
+    std::string output;
+    int first_frame = 0, max_frames = -1, levels = 4;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("table", "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)");
+  cmd->add_option("--sequences", a->sequences, "TUM sequence folders (columns)")->required();
+  cmd->add_option("--methods", a->methods,
+                  "methods (rows), each 'method' or 'method:backend'; methods: single, depth, fixed, tykkala, "
+                  "weighted, bounded")
+      ->capture_default_str();
+  cmd->add_option("--output", a->output, "folder for tables.md, rpe_trans.csv, runtime.csv, results.json, ...")
+      ->required();
+  cmd->add_option("--first-frame", a->first_frame, "first associated frame of every sequence")->capture_default_str();
+  cmd->add_option("--max-frames", a->max_frames, "frames per sequence (-1: all)")->capture_default_str();
+  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  cmd->callback([a] {
+    MatrixOptions o;
+    o.sequences = a->sequences;
+    for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
+    o.first_frame = a->first_frame;
+    o.max_frames = a->max_frames;
+    o.tracker.levels = a->levels;
+    o.trajectory_dir = a->output + "/trajectories";
+    const MethodMatrix m = run_matrix(o);
+    std::cout << write_matrix(m, a->output);
+  });
+}
+
+}  // namespace bivo::experiments::cli

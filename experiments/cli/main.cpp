@@ -1,0 +1,36 @@
+// The `bivo` command line: one CLI11 app, one subcommand per experiments/cli/cmd_*.cpp.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "experiments/cli/commands.h"
+#include "solvers/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"bivo: a testbed for bi-objective optimization, flagship instance RGB-D odometry"};
+  app.require_subcommand(1);
+  namespace ex = bivo::experiments::cli;
+  ex::add_demo_command(app);
+  ex::add_run_command(app);
+  ex::add_eval_command(app);
+  ex::add_synth_command(app);
+  ex::add_table_command(app);
+  ex::add_sweep_command(app);
+  ex::add_pareto_command(app);
+  ex::add_profile_command(app);
+  ex::add_report_command(app);
+  ex::add_conic_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const bivo::Error& e) {
+    std::cerr << "bivo: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "bivo: internal error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

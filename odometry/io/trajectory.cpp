@@ -1,0 +1,76 @@
+#include "odometry/io/trajectory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/tum_text.h"
+#include "solvers/error.h"
+
+namespace bivo::odometry::io {
+
+Trajectory read_tum_trajectory(const std::string& path) {
+  Trajectory out;
+  for_each_tum_line(path, "trajectory", [&](const TumTextLine& l) {
+    if (l.tokens.size() < 8) {
+      throw Error(tum_line_error(path, l.line_no, "expected 'timestamp tx ty tz qx qy qz qw', got '" + l.raw + "'"));
+    }
+    if (l.tokens.size() > 8) {
+      throw Error(tum_line_error(path, l.line_no, "unexpected extra field '" + l.tokens[8] + "'"));
+    }
+    double v[8];
+    for (int i = 0; i < 8; ++i) v[i] = parse_tum_number(l.tokens[i], path, l.line_no, "a finite number");
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    if (q.norm() < 1e-6) throw Error(tum_line_error(path, l.line_no, "quaternion has zero norm"));
+    q.normalize();
+    if (!out.empty() && v[0] < out.back().timestamp) {
+      throw Error(tum_line_error(path, l.line_no, "timestamp " + l.tokens[0] +
+                                                      " is earlier than the previous one (list must be sorted)"));
+    }
+    StampedPose p;
+    p.timestamp = v[0];
+    p.T_wc.linear() = q.toRotationMatrix();
+    p.T_wc.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+    out.push_back(p);
+  });
+  if (out.empty()) throw Error("trajectory '" + path + "' has no poses");
+  return out;
+}
+
+void write_tum_trajectory(const std::string& path, const Trajectory& trajectory) {
+  write_file_atomically(path, [&](std::ostream& o) {
+    o << "# timestamp tx ty tz qx qy qz qw (camera-to-world)\n";
+    for (const auto& p : trajectory) {
+      const Eigen::Vector3d t = p.T_wc.translation();
+      Eigen::Quaterniond q(p.T_wc.linear());
+      q.normalize();
+      if (!t.allFinite() || !q.coeffs().allFinite()) {
+        throw Error("refusing to write a non-finite pose at t=" + std::to_string(p.timestamp) +
+                    " to '" + path + "'");
+      }
+      o << std::fixed << std::setprecision(6) << p.timestamp << std::setprecision(9) << ' '
+        << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
+        << ' ' << q.w() << '\n';
+    }
+  });
+}
+
+const StampedPose* nearest_pose(const Trajectory& trajectory, double t, double max_dt) {
+  auto it = std::lower_bound(trajectory.begin(), trajectory.end(), t,
+                             [](const StampedPose& p, double v) { return p.timestamp < v; });
+  const StampedPose* best = nullptr;
+  double best_dt = max_dt;
+  if (it != trajectory.end() && std::abs(it->timestamp - t) <= best_dt) {
+    best = &*it;
+    best_dt = std::abs(it->timestamp - t);
+  }
+  if (it != trajectory.begin()) {
+    const auto prev = std::prev(it);
+    if (std::abs(prev->timestamp - t) <= best_dt) best = &*prev;
+  }
+  return best;
+}
+
+}  // namespace bivo::odometry::io

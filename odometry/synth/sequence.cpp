@@ -1,0 +1,258 @@
+#include "odometry/synth/sequence.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <exception>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/png_io.h"
+#include "solvers/error.h"
+
+namespace bivo::odometry::synth {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string stamp(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f", t);
+  return buf;
+}
+
+json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json pose_json(const Eigen::Isometry3d& T) {
+  Eigen::Quaterniond q(T.linear());
+  q.normalize();
+  return json{{"t_xyz", vec(T.translation())}, {"q_xyzw", json::array({q.x(), q.y(), q.z(), q.w()})}};
+}
+
+json scene_json(const SynthOptions& o, const Scene& scene, const std::string& motion_source,
+                const Eigen::Isometry3d& anchor, int anchor_frame, const io::Trajectory& poses,
+                const std::vector<RenderedFrame>& stats) {
+  const RenderSettings& r = o.render;
+  json panels = json::array();
+  for (const Panel& p : scene.panels) {
+    panels.push_back({{"name", p.name},
+                      {"corners", json::array({vec(p.origin), vec(p.origin + p.edge_u),
+                                               vec(p.origin + p.edge_u + p.edge_v), vec(p.origin + p.edge_v)})},
+                      {"normal", vec(p.normal())},
+                      {"material", scene.materials[p.material].name}});
+  }
+  json materials = json::array();
+  for (const Material& m : scene.materials) {
+    materials.push_back({{"name", m.name},
+                         {"tile_m", json::array({m.tile_u_m, m.tile_v_m})},
+                         {"texture_count", m.textures.size()}});
+  }
+  double vmin = 1, vmax = 0, vsum = 0;
+  json gains = json::array();
+  for (const RenderedFrame& f : stats) {
+    vmin = std::min(vmin, f.valid_depth_fraction);
+    vmax = std::max(vmax, f.valid_depth_fraction);
+    vsum += f.valid_depth_fraction;
+    gains.push_back(f.exposure_gain);
+  }
+  const MotionSpeeds speeds = mean_speeds(poses);
+  return json{
+      {"generator", "bivo synth"},
+      {"category", o.category.name()},
+      {"structure", o.category.structure},
+      {"texture", o.category.texture},
+      {"distance_m", o.category.distance_m()},
+      {"seed", o.seed},
+      {"frames", o.frames},
+      {"fps", o.fps},
+      {"camera",
+       {{"width", r.camera.width}, {"height", r.camera.height}, {"fx", r.camera.fx}, {"fy", r.camera.fy},
+        {"cx", r.camera.cx}, {"cy", r.camera.cy}}},
+      {"depth_sensor",
+       {{"noise_coeff", r.depth.noise_coeff},
+        {"baseline_m", r.depth.baseline_m},
+        {"disparity_step_px", r.depth.disparity_step_px},
+        {"min_range_m", r.depth.min_range_m},
+        {"max_range_m", r.depth.max_range_m},
+        {"max_incidence_deg", r.depth.max_incidence_deg},
+        {"occlusion_jump_rel", r.depth.occlusion_jump_rel},
+        {"occlusion_band_px", r.depth.occlusion_band_px},
+        {"png_units_per_m", 5000}}},
+      {"intensity_sensor",
+       {{"read_noise", r.intensity.read_noise},
+        {"shot_noise_gain", r.intensity.shot_noise_gain},
+        {"exposure_jitter", r.intensity.exposure_jitter},
+        {"full_scale", r.intensity.full_scale}}},
+      {"sensor_noise", r.sensor_noise},
+      {"supersampling", r.supersampling},
+      {"motion",
+       {{"source", motion_source},
+        {"start_offset_s", o.start_offset_s},
+        {"anchor_frame", anchor_frame},
+        {"anchor_transform", pose_json(anchor)},
+        {"mean_linear_speed_mps", speeds.linear_mps},
+        {"mean_angular_speed_dps", speeds.angular_rps * 180.0 / M_PI}}},
+      {"scene",
+       {{"panels", panels},
+        {"materials", materials},
+        {"light_direction", vec(scene.light_direction)},
+        {"ambient", scene.ambient},
+        {"diffuse", scene.diffuse},
+        {"nominal_T_wc", pose_json(scene.nominal_T_wc)},
+        {"target", vec(scene.target)}}},
+      {"stats",
+       {{"valid_depth_fraction_min", vmin},
+        {"valid_depth_fraction_mean", stats.empty() ? 0.0 : vsum / stats.size()},
+        {"valid_depth_fraction_max", vmax},
+        {"exposure_gains", gains}}},
+  };
+}
+
+void validate(const SynthOptions& o) {
+  if (o.frames < 1) throw Error("synth: --frames must be >= 1, got " + std::to_string(o.frames));
+  if (!(o.fps > 0)) throw Error("synth: fps must be positive, got " + std::to_string(o.fps));
+  const std::string name = o.sequence_name.empty() ? default_sequence_name(o.category) : o.sequence_name;
+  // Readers pick intrinsics from the sequence name: it must select the rendering camera.
+  const io::Intrinsics preset = io::intrinsics_for_sequence(name);
+  const PinholeCamera& cam = o.render.camera;
+  if (preset.fx != cam.fx || preset.fy != cam.fy || preset.cx != cam.cx || preset.cy != cam.cy) {
+    throw Error("synth: sequence name '" + name + "' selects intrinsics " + std::to_string(preset.fx) + " " +
+                std::to_string(preset.fy) + " " + std::to_string(preset.cx) + " " + std::to_string(preset.cy) +
+                ", not the rendering camera's (freiburg3: name it with 'freiburg3' and no other preset)");
+  }
+  if (name.find('/') != std::string::npos || name == "." || name == "..") {
+    throw Error("synth: sequence name '" + name + "' must be a plain folder name");
+  }
+  if (o.anchor_frame < -1 || o.anchor_frame >= o.frames) {
+    throw Error("synth: anchor frame " + std::to_string(o.anchor_frame) + " is outside 0.." +
+                std::to_string(o.frames - 1));
+  }
+}
+
+}  // namespace
+
+std::string default_sequence_name(const SynthCategory& category) {
+  return "rgbd_dataset_freiburg3_synth_" + category.name();
+}
+
+io::Trajectory frame_poses(const SynthOptions& o, const Scene& scene, const io::Trajectory& motion,
+                       const std::string& motion_source, Eigen::Isometry3d* anchor) {
+  validate(o);
+  io::Trajectory poses = resample_trajectory(motion, o.start_offset_s, o.frames, o.fps, motion_source);
+  const int ref = o.anchor_frame < 0 ? o.frames / 2 : o.anchor_frame;
+  const Eigen::Isometry3d A = anchor_transform(poses[ref].T_wc, scene.nominal_T_wc);
+  for (auto& p : poses) p.T_wc = A * p.T_wc;
+  if (anchor) *anchor = A;
+  return poses;
+}
+
+std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion, const std::string& output_dir,
+                            const std::string& motion_source) {
+  validate(o);
+  const std::string name = o.sequence_name.empty() ? default_sequence_name(o.category) : o.sequence_name;
+  const Scene scene = build_scene(o.category, o.seed);
+  Eigen::Isometry3d anchor;
+  const io::Trajectory planned = frame_poses(o, scene, motion, motion_source, &anchor);
+  const int ref = o.anchor_frame < 0 ? o.frames / 2 : o.anchor_frame;
+
+  const fs::path final_dir = fs::path(output_dir) / name;
+  const fs::path tmp_dir = fs::path(output_dir) / (name + ".tmp-render");
+  std::error_code ec;
+  fs::create_directories(output_dir, ec);
+  if (ec) throw Error("synth: cannot create output folder '" + output_dir + "': " + ec.message());
+  fs::remove_all(tmp_dir, ec);
+  try {
+    fs::create_directories(tmp_dir / "rgb");
+    fs::create_directories(tmp_dir / "depth");
+    // Ground truth goes through the file first: the renderer then uses exactly the poses
+    // a reader of groundtruth.txt gets (io::write_tum_trajectory rounds to 1e-9).
+    const std::string gt_path = (tmp_dir / "groundtruth.txt").string();
+    io::write_tum_trajectory(gt_path, planned);
+    const io::Trajectory poses = io::read_tum_trajectory(gt_path);
+
+    RenderSettings settings = o.render;
+    settings.noise_seed = o.seed;
+    std::vector<RenderedFrame> stats(o.frames);
+    std::vector<std::string> stamps(o.frames);
+    const auto render_and_write = [&](int k) {
+      RenderedFrame f = render_frame(scene, poses[k].T_wc, settings, static_cast<std::uint64_t>(k));
+      stamps[k] = stamp(poses[k].timestamp);
+      io::Png8 rgb;
+      rgb.width = f.width;
+      rgb.height = f.height;
+      rgb.channels = 3;
+      rgb.data = std::move(f.rgb);
+      io::write_png8((tmp_dir / ("rgb/" + stamps[k] + ".png")).string(), rgb);
+      io::Png16 depth;
+      depth.width = f.width;
+      depth.height = f.height;
+      depth.data = std::move(f.depth);
+      io::write_png16((tmp_dir / ("depth/" + stamps[k] + ".png")).string(), depth);
+      f.true_depth.clear();
+      stats[k] = std::move(f);
+    };
+    // Frames are independent: worker w takes frames w, w + n, w + 2n, ...
+    const int n_threads = std::clamp(o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()),
+                                     1, o.frames);
+    std::vector<std::exception_ptr> failures(n_threads);
+    std::vector<std::thread> workers;
+    for (int w = 0; w < n_threads; ++w) {
+      workers.emplace_back([&, w] {
+        try {
+          for (int k = w; k < o.frames; k += n_threads) render_and_write(k);
+        } catch (...) {
+          failures[w] = std::current_exception();
+        }
+      });
+    }
+    for (auto& t : workers) t.join();
+    for (const auto& e : failures) {
+      if (e) std::rethrow_exception(e);
+    }
+    std::ostringstream rgb_list, depth_list, assoc;
+    rgb_list << "# color images\n# synthetic: " << name << "\n# timestamp filename\n";
+    depth_list << "# depth maps\n# synthetic: " << name << "\n# timestamp filename\n";
+    for (int k = 0; k < o.frames; ++k) {
+      const std::string rgb_rel = "rgb/" + stamps[k] + ".png", depth_rel = "depth/" + stamps[k] + ".png";
+      rgb_list << stamps[k] << ' ' << rgb_rel << '\n';
+      depth_list << stamps[k] << ' ' << depth_rel << '\n';
+      assoc << stamps[k] << ' ' << rgb_rel << ' ' << stamps[k] << ' ' << depth_rel << '\n';
+    }
+    const auto write_text = [&](const char* file, const std::string& text) {
+      io::write_file_atomically((tmp_dir / file).string(), [&](std::ostream& out) { out << text; });
+    };
+    write_text("rgb.txt", rgb_list.str());
+    write_text("depth.txt", depth_list.str());
+    write_text("associations.txt", assoc.str());
+    write_text("scene.json", scene_json(o, scene, motion_source, anchor, ref, poses, stats).dump(2) + "\n");
+
+    fs::remove_all(final_dir);
+    fs::rename(tmp_dir, final_dir);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(tmp_dir, ec);
+    throw Error("synth: writing '" + final_dir.string() + "' failed: " + e.what());
+  } catch (...) {
+    fs::remove_all(tmp_dir, ec);
+    throw;
+  }
+  return final_dir.string();
+}
+
+std::string render_sequence(const SynthOptions& o, const std::string& output_dir) {
+  HandheldMotionOptions h = o.handheld;
+  h.seed = o.seed;
+  // Cover the requested frames plus one second of slack.
+  h.duration_s = std::max(h.duration_s, o.start_offset_s + (o.frames - 1) / o.fps + 1.0);
+  return render_sequence(o, generate_handheld_motion(h), output_dir,
+                         "generated hand-held motion (seed " + std::to_string(o.seed) + ")");
+}
+
+}  // namespace bivo::odometry::synth
