@@ -1,11 +1,17 @@
 #include "experiments/pareto_study.h"
 
 #include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/plotting.h"
+#include "odometry/io/atomic_file.h"
 #include "odometry/io/pose_error.h"
+#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
@@ -155,6 +161,51 @@ std::string pareto_json(const ParetoStudy& s) {
   j["knee"] = s.knee ? point(*s.knee, nullptr) : nlohmann::json(nullptr);
   j["seconds"] = s.seconds;
   return j.dump(2) + "\n";
+}
+
+std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int every, int max_pairs) {
+  if (pair < 0 && every <= 0) throw Error("give --pair K (K >= 0) or --every K (K >= 1)");
+  std::vector<int> pairs;
+  if (pair >= 0) {
+    pairs.push_back(pair);
+  } else {
+    const int frames = int(odometry::io::open_tum_sequence(sequence_dir).frames.size());
+    for (int k = 0; k + 1 < frames && int(pairs.size()) < max_pairs; k += every) pairs.push_back(k);
+  }
+  return pairs;
+}
+
+std::string write_pareto_studies(const ParetoStudyOptions& options, const std::vector<int>& pairs,
+                                 const std::string& dir, bool plots) {
+  std::filesystem::create_directories(dir);
+  std::ostringstream md;
+  md << "| pair | level | lambda-front points | epsilon-front points | knee F_I | knee F_D | knee error [mm] |";
+  for (const auto& m : options.methods) md << " " << m << " error [mm] |";
+  md << " seconds |\n|---|---:|---:|---:|---:|---:|---:|";
+  for (size_t i = 0; i < options.methods.size(); ++i) md << "---:|";
+  md << "---:|\n";
+  auto mm = [](const StudyPoint& p) {
+    std::ostringstream s;
+    if (p.error) s << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m;
+    else s << "—";
+    return s.str();
+  };
+  for (int k : pairs) {
+    ParetoStudyOptions o = options;
+    o.pair = k;
+    const ParetoStudy s = run_pareto_study(o);
+    const std::string base = dir + "/pareto_pair" + std::to_string(k);
+    odometry::io::write_file_atomically(base + ".json", [&](std::ostream& out) { out << pareto_json(s); });
+    if (plots) plot("pareto_front.py", {base + ".json", base + ".png"});
+    md << "| " << k << " | " << s.level << " | " << s.lambda_front.size() << " | " << s.epsilon_front.size() << " | ";
+    if (s.knee) md << std::setprecision(6) << s.knee->f_i << " | " << s.knee->f_d << " | " << mm(*s.knee) << " |";
+    else md << "— | — | — |";
+    for (const auto& p : s.methods) md << " " << mm(p) << " |";
+    md << " " << std::fixed << std::setprecision(1) << s.seconds << std::defaultfloat << " |\n";
+    std::cerr << "pareto: pair " << k << " done in " << s.seconds << " s\n";
+  }
+  odometry::io::write_file_atomically(dir + "/pareto.md", [&](std::ostream& out) { out << md.str(); });
+  return md.str();
 }
 
 }  // namespace bivo::experiments

@@ -47,4 +47,13 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& options);
 // The JSON read by plots/pareto_front.py.
 std::string pareto_json(const ParetoStudy& study);
 
+// The pairs of `bivo pareto`: {pair} when pair >= 0, else 0, every, 2 every, ... (at most
+// max_pairs, each with a following frame). Throws bivo::Error when neither is given.
+std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int every, int max_pairs);
+
+// Runs the study of every pair (options.pair is overwritten), writes into `dir` (created)
+// pareto_pair<K>.json (+ .png when `plots`) and pareto.md, atomically; returns the Markdown.
+std::string write_pareto_studies(const ParetoStudyOptions& options, const std::vector<int>& pairs,
+                                 const std::string& dir, bool plots);
+
 }  // namespace bivo::experiments

@@ -1,18 +1,11 @@
 // `bivo pareto SEQUENCE_DIR (--pair K | --every K) --output DIR`: Pareto fronts (F_I, F_D) of
 // frame pairs by lambda and epsilon sweeps, with the methods' picks, the knee and pose errors
 // (experiments/pareto_study.h); JSON per pair plus a PNG per pair and a Markdown summary.
-#include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "experiments/cli/commands.h"
 #include "experiments/pareto_study.h"
-#include "experiments/plotting.h"
-#include "odometry/io/atomic_file.h"
-#include "odometry/io/tum_dataset.h"
-#include "solvers/error.h"
 
 namespace bivo::experiments::cli {
 
@@ -39,44 +32,10 @@ void add_pareto_command(CLI::App& app) {
   cmd->add_option("--output", a->output, "folder for pareto_pair<K>.json/.png and pareto.md")->required();
   cmd->add_flag("--no-plots", a->no_plots, "write the JSON only (no matplotlib)");
   cmd->callback([a] {
-    if (a->pair < 0 && a->every <= 0) throw Error("give --pair K (K >= 0) or --every K (K >= 1)");
-    std::vector<int> pairs;
-    if (a->pair >= 0) {
-      pairs.push_back(a->pair);
-    } else {
-      const int frames = int(odometry::io::open_tum_sequence(a->o.sequence_dir).frames.size());
-      for (int k = 0; k + 1 < frames && int(pairs.size()) < a->max_pairs; k += a->every) pairs.push_back(k);
-    }
-    std::filesystem::create_directories(a->output);
-    std::ostringstream md;
-    md << "| pair | level | lambda-front points | epsilon-front points | knee F_I | knee F_D | knee error [mm] |";
-    for (const auto& m : a->o.methods) md << " " << m << " error [mm] |";
-    md << " seconds |\n|---|---:|---:|---:|---:|---:|---:|";
-    for (size_t i = 0; i < a->o.methods.size(); ++i) md << "---:|";
-    md << "---:|\n";
-    auto mm = [](const StudyPoint& p) {
-      std::ostringstream s;
-      if (p.error) s << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m;
-      else s << "—";
-      return s.str();
-    };
-    for (int k : pairs) {
-      ParetoStudyOptions o = a->o;
-      o.pair = k;
-      o.tracker.levels = a->levels;
-      const ParetoStudy s = run_pareto_study(o);
-      const std::string base = a->output + "/pareto_pair" + std::to_string(k);
-      odometry::io::write_file_atomically(base + ".json", [&](std::ostream& out) { out << pareto_json(s); });
-      if (!a->no_plots) plot("pareto_front.py", {base + ".json", base + ".png"});
-      md << "| " << k << " | " << s.level << " | " << s.lambda_front.size() << " | " << s.epsilon_front.size() << " | ";
-      if (s.knee) md << std::setprecision(6) << s.knee->f_i << " | " << s.knee->f_d << " | " << mm(*s.knee) << " |";
-      else md << "— | — | — |";
-      for (const auto& p : s.methods) md << " " << mm(p) << " |";
-      md << " " << std::fixed << std::setprecision(1) << s.seconds << std::defaultfloat << " |\n";
-      std::cerr << "pareto: pair " << k << " done in " << s.seconds << " s\n";
-    }
-    odometry::io::write_file_atomically(a->output + "/pareto.md", [&](std::ostream& out) { out << md.str(); });
-    std::cout << md.str();
+    ParetoStudyOptions o = a->o;
+    o.tracker.levels = a->levels;
+    const std::vector<int> pairs = pareto_pairs(o.sequence_dir, a->pair, a->every, a->max_pairs);
+    std::cout << write_pareto_studies(o, pairs, a->output, !a->no_plots);
   });
 }
 

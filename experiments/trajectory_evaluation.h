@@ -1,0 +1,28 @@
+#pragma once
+// Evaluation of one estimated trajectory against ground truth, as `bivo eval` reports it:
+// TUM RPE over windows of delta seconds and ATE (odometry/io/metrics.h, docs/metrics.md).
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "odometry/io/metrics.h"
+
+namespace bivo::experiments {
+
+struct TrajectoryEvaluation {
+  std::string groundtruth_path, estimate_path;
+  double delta_s = 1.0, max_dt = 0.02;
+  odometry::io::RpeResult rpe;
+  odometry::io::AteResult ate;
+};
+
+// Reads both TUM trajectories and evaluates them (bivo::Error names a bad file/line).
+TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, const std::string& estimate,
+                                               double delta_s = 1.0, double max_dt = 0.02);
+
+// Every statistic and every RPE window (the file of `bivo eval --output`).
+nlohmann::json evaluation_json(const TrajectoryEvaluation& e);
+// The one line: "rpe_trans=<m/s> rpe_rot=<deg/s> ate=<m> pairs=<windows>", or as JSON.
+std::string evaluation_line(const TrajectoryEvaluation& e, bool as_json);
+
+}  // namespace bivo::experiments
