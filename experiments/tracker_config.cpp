@@ -1,0 +1,242 @@
+// TrackerOptions <-> JSON (tracker_config.h).
+#include "experiments/tracker_config.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <set>
+
+#include "odometry/io/atomic_file.h"
+#include "solvers/error.h"
+
+namespace bivo::experiments {
+
+namespace {
+
+using json = nlohmann::json;
+using odometry::TrackerOptions;
+
+std::string bound(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Reads the keys of one JSON object into fields, remembering which keys were used so that
+// an unknown key (a typo) is an error instead of being ignored.
+class ObjectReader {
+ public:
+  ObjectReader(const json& j, std::string where) : j_(j), where_(std::move(where)) {
+    if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + j_.type_name());
+  }
+
+  std::string path(const char* key) const { return where_ + "." + key; }
+  const json* find(const char* key) {
+    known_.insert(key);
+    const auto it = j_.find(key);
+    return it == j_.end() ? nullptr : &*it;
+  }
+
+  void number(const char* key, double& out, double lo, double hi) {
+    const json* v = find(key);
+    if (!v) return;
+    if (!v->is_number()) throw Error(path(key) + ": must be a number, got " + v->type_name());
+    const double d = v->get<double>();
+    if (!std::isfinite(d) || d < lo || d > hi) {
+      throw Error(path(key) + ": " + v->dump() + " is outside [" + bound(lo) + ", " + bound(hi) + "]");
+    }
+    out = d;
+  }
+  void integer(const char* key, int& out, int lo, int hi) {
+    const json* v = find(key);
+    if (!v) return;
+    if (!v->is_number_integer()) throw Error(path(key) + ": must be an integer, got " + v->dump());
+    const auto i = v->get<std::int64_t>();
+    if (i < lo || i > hi) {
+      throw Error(path(key) + ": " + v->dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    out = static_cast<int>(i);
+  }
+  void boolean(const char* key, bool& out) {
+    const json* v = find(key);
+    if (!v) return;
+    if (!v->is_boolean()) throw Error(path(key) + ": must be true or false, got " + v->dump());
+    out = v->get<bool>();
+  }
+  void string(const char* key, std::string& out) {
+    const json* v = find(key);
+    if (!v) return;
+    if (!v->is_string()) throw Error(path(key) + ": must be a string, got " + v->type_name());
+    out = v->get<std::string>();
+  }
+  // An enum by name, parsed by the layer's own parse function (its error lists valid names).
+  template <class Enum, class Parse>
+  void name(const char* key, Enum& out, Parse parse) {
+    if (!find(key)) return;
+    std::string s;
+    string(key, s);
+    try {
+      out = parse(s);
+    } catch (const Error& e) {
+      throw Error(path(key) + ": " + e.what());
+    }
+  }
+
+  void reject_unknown() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it) {
+      if (!known_.count(it.key())) {
+        std::string valid;
+        for (const auto& k : known_) valid += (valid.empty() ? "" : ", ") + k;
+        throw Error(where_ + ": unknown key '" + it.key() + "' (valid: " + valid + ")");
+      }
+    }
+  }
+
+ private:
+  const json& j_;
+  std::string where_;
+  std::set<std::string> known_;
+};
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kIntMax = std::numeric_limits<int>::max();
+
+}  // namespace
+
+json tracker_options_to_json(const TrackerOptions& o) {
+  const auto& w = o.problem.weights;
+  json policy = {{"lambda", o.policy.lambda}, {"phi", o.policy.phi},        {"delta", o.policy.delta},
+                 {"eps_min", o.policy.eps_min}, {"eps_max", o.policy.eps_max}, {"eps", nullptr}};
+  if (o.policy.eps) policy["eps"] = *o.policy.eps;
+  json j = {
+      {"method", o.method},
+      {"backend", o.backend},
+      {"levels", o.levels},
+      {"finest_level", o.finest_level},
+      {"initial_guess", odometry::to_string(o.initial_guess)},
+      {"max_iterations", o.max_iterations},
+      {"step_tolerance", o.step_tolerance},
+      {"relative_decrease_tolerance", o.relative_decrease_tolerance},
+      {"min_valid_pixels", o.min_valid_pixels},
+      {"max_association_dt", o.max_association_dt},
+      {"first_frame", o.first_frame},
+      {"max_frames", o.max_frames},
+      {"start_at_groundtruth", o.start_at_groundtruth},
+      {"verbosity", o.verbosity},
+      {"policy", policy},
+      {"problem",
+       {{"min_depth", o.problem.min_depth},
+        {"max_depth", o.problem.max_depth},
+        {"occlusion_margin", o.problem.occlusion_margin},
+        {"depth_first", o.problem.depth_first},
+        {"weights",
+         {{"kind", odometry::to_string(w.kind)},
+          {"nu", w.nu},
+          {"huber_k", w.huber_k},
+          {"max_scale_iterations", w.max_scale_iterations},
+          {"scale_tolerance", w.scale_tolerance}}}}},
+      {"intrinsics", nullptr},
+  };
+  if (o.intrinsics) {
+    j["intrinsics"] = {{"fx", o.intrinsics->fx}, {"fy", o.intrinsics->fy}, {"cx", o.intrinsics->cx},
+                       {"cy", o.intrinsics->cy}};
+  }
+  return j;
+}
+
+TrackerOptions tracker_options_from_json(const json& j, const std::string& where, const TrackerOptions& base) {
+  TrackerOptions o = base;
+  ObjectReader r(j, where);
+  r.string("method", o.method);
+  r.string("backend", o.backend);
+  r.integer("levels", o.levels, 1, 12);
+  r.integer("finest_level", o.finest_level, 0, 11);
+  r.name("initial_guess", o.initial_guess, odometry::parse_initial_guess);
+  r.integer("max_iterations", o.max_iterations, 1, 100000);
+  r.number("step_tolerance", o.step_tolerance, 0.0, kInf);
+  r.number("relative_decrease_tolerance", o.relative_decrease_tolerance, 0.0, kInf);
+  r.integer("min_valid_pixels", o.min_valid_pixels, 1, kIntMax);
+  r.number("max_association_dt", o.max_association_dt, 0.0, 1e6);
+  r.integer("first_frame", o.first_frame, 0, kIntMax);
+  r.integer("max_frames", o.max_frames, -1, kIntMax);
+  r.boolean("start_at_groundtruth", o.start_at_groundtruth);
+  r.integer("verbosity", o.verbosity, 0, 10);
+  if (const json* p = r.find("policy")) {
+    ObjectReader pr(*p, r.path("policy"));
+    pr.number("lambda", o.policy.lambda, 0.0, kInf);
+    pr.number("phi", o.policy.phi, 0.0, kInf);
+    pr.number("delta", o.policy.delta, 0.0, kInf);
+    pr.number("eps_min", o.policy.eps_min, 0.0, kInf);
+    pr.number("eps_max", o.policy.eps_max, 0.0, kInf);
+    if (const json* e = pr.find("eps")) {
+      if (e->is_null()) {
+        o.policy.eps.reset();
+      } else {
+        double eps = 0.0;
+        pr.number("eps", eps, 0.0, kInf);
+        o.policy.eps = eps;
+      }
+    }
+    pr.reject_unknown();
+  }
+  if (const json* p = r.find("problem")) {
+    ObjectReader pr(*p, r.path("problem"));
+    pr.number("min_depth", o.problem.min_depth, 0.0, kInf);
+    pr.number("max_depth", o.problem.max_depth, 0.0, kInf);
+    pr.number("occlusion_margin", o.problem.occlusion_margin, 0.0, kInf);
+    pr.boolean("depth_first", o.problem.depth_first);
+    if (const json* w = pr.find("weights")) {
+      auto& wo = o.problem.weights;
+      ObjectReader wr(*w, pr.path("weights"));
+      wr.name("kind", wo.kind, odometry::parse_weight_kind);
+      wr.number("nu", wo.nu, 0.0, kInf);
+      wr.number("huber_k", wo.huber_k, 0.0, kInf);
+      wr.integer("max_scale_iterations", wo.max_scale_iterations, 1, 100000);
+      wr.number("scale_tolerance", wo.scale_tolerance, 0.0, kInf);
+      wr.reject_unknown();
+    }
+    pr.reject_unknown();
+  }
+  if (const json* k = r.find("intrinsics")) {
+    if (k->is_null()) {
+      o.intrinsics.reset();
+    } else {
+      odometry::io::Intrinsics K;
+      ObjectReader kr(*k, r.path("intrinsics"));
+      kr.number("fx", K.fx, std::numeric_limits<double>::min(), kInf);
+      kr.number("fy", K.fy, std::numeric_limits<double>::min(), kInf);
+      kr.number("cx", K.cx, -kInf, kInf);
+      kr.number("cy", K.cy, -kInf, kInf);
+      kr.reject_unknown();
+      o.intrinsics = K;
+    }
+  }
+  r.reject_unknown();
+  try {
+    odometry::validate(o);
+  } catch (const Error& e) {
+    throw Error(where + ": " + e.what());
+  }
+  return o;
+}
+
+TrackerOptions read_tracker_config(const std::string& path, const TrackerOptions& base) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open tracker configuration '" + path + "'");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    throw Error(path + ": not valid JSON (" + e.what() + ")");
+  }
+  return tracker_options_from_json(j, path, base);
+}
+
+void write_tracker_config(const std::string& path, const TrackerOptions& options) {
+  const std::string text = tracker_options_to_json(options).dump(2) + "\n";
+  odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace bivo::experiments

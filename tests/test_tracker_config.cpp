@@ -1,0 +1,154 @@
+// experiments/tracker_config.h: every TrackerOptions field survives options -> JSON -> file ->
+// options bit-exactly, and bad files are refused naming the file and the key path.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "experiments/tracker_config.h"
+#include "tests/test_support.h"
+
+namespace fs = std::filesystem;
+using bivo::experiments::read_tracker_config;
+using bivo::experiments::tracker_options_from_json;
+using bivo::experiments::tracker_options_to_json;
+using bivo::experiments::write_tracker_config;
+using bivo::odometry::TrackerOptions;
+using bivo::testing::error_of;
+using json = nlohmann::json;
+
+namespace {
+
+// Every field away from its default, doubles that need all 17 digits.
+TrackerOptions unusual_options() {
+  TrackerOptions o;
+  o.method = "bounded";
+  o.backend = "ipm-compressed";
+  o.levels = 3;
+  o.finest_level = 1;
+  o.initial_guess = bivo::odometry::InitialGuess::kIdentity;
+  o.max_iterations = 7;
+  o.step_tolerance = 0.1 + 0.2;
+  o.relative_decrease_tolerance = 1.0 / 3.0;
+  o.min_valid_pixels = 123;
+  o.max_association_dt = 0.015;
+  o.first_frame = 4;
+  o.max_frames = 9;
+  o.start_at_groundtruth = false;
+  o.verbosity = 2;
+  o.policy.lambda = 12345.678901234567;
+  o.policy.phi = 3.0e-7;
+  o.policy.delta = 0.0173;
+  o.policy.eps_min = 2.5e-4;
+  o.policy.eps_max = 7.0e-3;
+  o.policy.eps = 1.0 / 7.0;
+  o.problem.min_depth = 0.25;
+  o.problem.max_depth = 6.5;
+  o.problem.occlusion_margin = 0.07;
+  o.problem.depth_first = true;
+  o.problem.weights.kind = bivo::odometry::WeightKind::kHuber;
+  o.problem.weights.nu = 4.5;
+  o.problem.weights.huber_k = 1.5;
+  o.problem.weights.max_scale_iterations = 17;
+  o.problem.weights.scale_tolerance = 3e-5;
+  o.intrinsics = bivo::odometry::io::Intrinsics{500.125, 501.5, 320.25, 240.75};
+  return o;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("bivo_test_tracker_config_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
+  const TrackerOptions o = unusual_options();
+  const fs::path dir = temp_dir("roundtrip");
+  write_tracker_config((dir / "cfg.json").string(), o);
+  const TrackerOptions back = read_tracker_config((dir / "cfg.json").string());
+  // Field by field (the JSON comparison below would hide a field missing on both sides).
+  EXPECT_EQ(back.method, o.method);
+  EXPECT_EQ(back.backend, o.backend);
+  EXPECT_EQ(back.levels, o.levels);
+  EXPECT_EQ(back.finest_level, o.finest_level);
+  EXPECT_EQ(back.initial_guess, o.initial_guess);
+  EXPECT_EQ(back.max_iterations, o.max_iterations);
+  EXPECT_EQ(back.step_tolerance, o.step_tolerance);
+  EXPECT_EQ(back.relative_decrease_tolerance, o.relative_decrease_tolerance);
+  EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);
+  EXPECT_EQ(back.max_association_dt, o.max_association_dt);
+  EXPECT_EQ(back.first_frame, o.first_frame);
+  EXPECT_EQ(back.max_frames, o.max_frames);
+  EXPECT_EQ(back.start_at_groundtruth, o.start_at_groundtruth);
+  EXPECT_EQ(back.verbosity, o.verbosity);
+  EXPECT_EQ(back.policy.lambda, o.policy.lambda);
+  EXPECT_EQ(back.policy.phi, o.policy.phi);
+  EXPECT_EQ(back.policy.delta, o.policy.delta);
+  EXPECT_EQ(back.policy.eps_min, o.policy.eps_min);
+  EXPECT_EQ(back.policy.eps_max, o.policy.eps_max);
+  ASSERT_TRUE(back.policy.eps.has_value());
+  EXPECT_EQ(*back.policy.eps, *o.policy.eps);
+  EXPECT_EQ(back.problem.min_depth, o.problem.min_depth);
+  EXPECT_EQ(back.problem.max_depth, o.problem.max_depth);
+  EXPECT_EQ(back.problem.occlusion_margin, o.problem.occlusion_margin);
+  EXPECT_EQ(back.problem.depth_first, o.problem.depth_first);
+  EXPECT_EQ(back.problem.weights.kind, o.problem.weights.kind);
+  EXPECT_EQ(back.problem.weights.nu, o.problem.weights.nu);
+  EXPECT_EQ(back.problem.weights.huber_k, o.problem.weights.huber_k);
+  EXPECT_EQ(back.problem.weights.max_scale_iterations, o.problem.weights.max_scale_iterations);
+  EXPECT_EQ(back.problem.weights.scale_tolerance, o.problem.weights.scale_tolerance);
+  ASSERT_TRUE(back.intrinsics.has_value());
+  EXPECT_EQ(back.intrinsics->fx, o.intrinsics->fx);
+  EXPECT_EQ(back.intrinsics->fy, o.intrinsics->fy);
+  EXPECT_EQ(back.intrinsics->cx, o.intrinsics->cx);
+  EXPECT_EQ(back.intrinsics->cy, o.intrinsics->cy);
+  // And the second trip writes the same document.
+  EXPECT_EQ(tracker_options_to_json(back).dump(), tracker_options_to_json(o).dump());
+}
+
+TEST(TrackerConfig, AbsentKeysKeepTheBaseAndNullClearsOptionals) {
+  const TrackerOptions base = unusual_options();
+  const TrackerOptions o =
+      tracker_options_from_json(json::parse(R"({"levels": 2, "policy": {"eps": null}, "intrinsics": null})"), "x",
+                                base);
+  EXPECT_EQ(o.levels, 2);
+  EXPECT_FALSE(o.policy.eps.has_value());
+  EXPECT_FALSE(o.intrinsics.has_value());
+  EXPECT_EQ(o.policy.lambda, base.policy.lambda);
+  EXPECT_EQ(o.method, base.method);
+  // The defaults' own document reads back as the defaults.
+  EXPECT_EQ(tracker_options_to_json(tracker_options_from_json(tracker_options_to_json({}), "d")).dump(),
+            tracker_options_to_json({}).dump());
+}
+
+TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
+  auto err = [](const char* text) {
+    return error_of([&] { tracker_options_from_json(json::parse(text), "cfg.json"); });
+  };
+  EXPECT_NE(err(R"({"levls": 3})").find("cfg.json: unknown key 'levls'"), std::string::npos);
+  EXPECT_NE(err(R"({"policy": {"phii": 3}})").find("cfg.json.policy: unknown key 'phii'"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": "four"})").find("cfg.json.levels: must be an integer"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": 2.5})").find("cfg.json.levels: must be an integer"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": 0})").find("cfg.json.levels: 0 is outside [1, 12]"), std::string::npos);
+  EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json.max_frames"), std::string::npos);
+  EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json.policy.phi: -1 is outside"), std::string::npos);
+  EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json.problem.weights.kind"),
+            std::string::npos);
+  EXPECT_NE(err(R"({"initial_guess": "zero"})").find("cfg.json.initial_guess"), std::string::npos);
+  EXPECT_NE(err(R"({"method": "nonsense"})").find("cfg.json: "), std::string::npos);
+  EXPECT_NE(err(R"({"intrinsics": {"fx": 0, "fy": 1, "cx": 0, "cy": 0}})").find("cfg.json.intrinsics.fx"),
+            std::string::npos);
+  EXPECT_NE(err(R"([1, 2])").find("cfg.json: must be a JSON object"), std::string::npos);
+  // A method's backend that cannot solve its scalarization is caught by validate().
+  EXPECT_NE(err(R"({"method": "bounded", "backend": "gn"})"), "");
+
+  const fs::path dir = temp_dir("bad");
+  std::ofstream(dir / "broken.json") << "{\"levels\": 3,";
+  EXPECT_NE(error_of([&] { read_tracker_config((dir / "broken.json").string()); }).find("not valid JSON"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_tracker_config((dir / "missing.json").string()); }).find("cannot open"),
+            std::string::npos);
+}
