@@ -168,3 +168,49 @@ TEST_F(CliRun, EverySubcommandHasHelp) {
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub << ": " << r.out;
   }
 }
+
+// Issue 13, item 4: flags -> configuration file -> run reproduces the trajectory byte for byte.
+TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
+  const std::string flags =
+      " --method bounded --eps-min 2e-4 --eps-max 2e-3 --delta 0.015 --levels 3 --finest-level 1 --nu 4.5"
+      " --initial-guess identity --max-iterations 9 --step-tolerance 3e-4 --decrease-tolerance 2e-3"
+      " --min-depth 0.2 --max-depth 8 --occlusion-margin 0.05 --max-dt 0.015 --intrinsics '535.4 539.2 320.1 247.6'"
+      " --first-frame 1 --max-frames 3";
+  const CliResult a = run_bivo("run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " +
+                                   q(dir_ / "saved.json"),
+                               dir_);
+  ASSERT_EQ(a.status, 0) << a.err;
+  const std::string config = slurp(dir_ / "a.config.json");
+  ASSERT_FALSE(config.empty());
+  EXPECT_EQ(slurp(dir_ / "saved.json"), config);
+  for (const char* value : {"\"finest_level\": 1", "\"nu\": 4.5", "\"eps_min\": 0.0002", "\"first_frame\": 1",
+                            "\"max_frames\": 3", "\"initial_guess\": \"identity\"", "\"fx\": 535.4"}) {
+    EXPECT_NE(config.find(value), std::string::npos) << value << " missing in\n" << config;
+  }
+  const CliResult b =
+      run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"), dir_);
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(slurp(dir_ / "b.txt"), slurp(dir_ / "a.txt"));
+  EXPECT_EQ(slurp(dir_ / "b.config.json"), config);
+  // Changing one field changes the result: the file is really read.
+  const CliResult c = run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") +
+                                   " --initial-guess constant-velocity --output " + q(dir_ / "c.txt"),
+                               dir_);
+  ASSERT_EQ(c.status, 0) << c.err;
+  EXPECT_NE(slurp(dir_ / "c.txt"), slurp(dir_ / "a.txt"));
+  EXPECT_NE(slurp(dir_ / "c.config.json").find("\"initial_guess\": \"constant-velocity\""), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "c.config.json").find("\"eps_min\": 0.0002"), std::string::npos);
+}
+
+TEST_F(CliRun, BadConfigFileNamesTheKeyAndWritesNothing) {
+  std::ofstream(dir_ / "cfg.json") << R"({"method": "single", "levles": 3})";
+  const CliResult r =
+      run_bivo("run " + seq() + " --config " + q(dir_ / "cfg.json") + " --output " + q(dir_ / "t.txt"), dir_);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("cfg.json: unknown key 'levles'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "t.txt"));
+  EXPECT_FALSE(fs::exists(dir_ / "t.config.json"));
+  const CliResult m = run_bivo("run " + seq() + " --output " + q(dir_ / "t.txt"), dir_);
+  EXPECT_EQ(m.status, 1);
+  EXPECT_NE(m.err.find("--method"), std::string::npos) << m.err;
+}
