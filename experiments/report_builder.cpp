@@ -11,6 +11,7 @@
 
 #include "experiments/pareto_study.h"
 #include "experiments/plotting.h"
+#include "experiments/tracker_config.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
@@ -168,6 +169,8 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
   image("runtime_bars.py", dir + "/tables/runtime_bars.csv", "runtime.png",
         "Time per frame pair, median over all pairs (bars) and mean (black mark), loading excluded");
 
+  // The tracker settings every run of the report started from, for --config.
+  write_tracker_config(dir + "/config.json", o.tracker);
   result.report_path = dir + "/report.md";
   odometry::io::write_file_atomically(result.report_path, [&](std::ostream& out) { out << md.str(); });
   return result;

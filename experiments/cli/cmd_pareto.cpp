@@ -5,14 +5,17 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
+#include "experiments/tracker_config.h"
 #include "experiments/pareto_study.h"
 
 namespace bivo::experiments::cli {
 
 void add_pareto_command(CLI::App& app) {
   struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
     ParetoStudyOptions o;
-    int pair = -1, every = -1, max_pairs = 5, levels = 4;
+    int pair = -1, every = -1, max_pairs = 5;
     std::string output;
     bool no_plots = false;
   };
@@ -24,7 +27,7 @@ void add_pareto_command(CLI::App& app) {
   pair_opt->excludes(every_opt);
   cmd->add_option("--max-pairs", a->max_pairs, "with --every: at most this many pairs")->capture_default_str();
   cmd->add_option("--level", a->o.level, "pyramid level of the problem (0 = full resolution)")->capture_default_str();
-  cmd->add_option("--levels", a->levels, "pyramid levels for the coarse-to-fine start")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--points", a->o.points, "points per sweep")->capture_default_str();
   cmd->add_option("--lambda-min", a->o.lambda_min, "smallest lambda of the sweep")->capture_default_str();
   cmd->add_option("--lambda-max", a->o.lambda_max, "largest lambda of the sweep")->capture_default_str();
@@ -33,9 +36,10 @@ void add_pareto_command(CLI::App& app) {
   cmd->add_flag("--no-plots", a->no_plots, "write the JSON only (no matplotlib)");
   cmd->callback([a] {
     ParetoStudyOptions o = a->o;
-    o.tracker.levels = a->levels;
+    o.tracker = a->tracker->options();
     const std::vector<int> pairs = pareto_pairs(o.sequence_dir, a->pair, a->every, a->max_pairs);
     std::cout << write_pareto_studies(o, pairs, a->output, !a->no_plots);
+    write_tracker_config(a->output + "/config.json", o.tracker);
   });
 }
 

@@ -5,16 +5,18 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
+#include "experiments/tracker_config.h"
 #include "experiments/profile_study.h"
 
 namespace bivo::experiments::cli {
 
 void add_profile_command(CLI::App& app) {
   struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
     ProfileOptions o;
     std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact"};
     std::string output;
-    int levels = 4;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("profile", "Time per phase, iterations per level and the QCQP/SOCP vs Gauss-Newton gap");
@@ -23,13 +25,14 @@ void add_profile_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run")->capture_default_str();
-  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {
     ProfileOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
-    o.tracker.levels = a->levels;
+    o.tracker = a->tracker->options();
     std::cout << write_profile(run_profile(o), a->output);
+    write_tracker_config(a->output + "/config.json", o.tracker);
   });
 }
 

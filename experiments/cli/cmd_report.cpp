@@ -4,16 +4,18 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
 #include "experiments/report_builder.h"
 
 namespace bivo::experiments::cli {
 
 void add_report_command(CLI::App& app) {
   struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
     ReportOptions o;
     std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded"};
     double lambda_min = 10, lambda_max = 1e6, eps_min = 1e-5, eps_max = 1e-2;
-    int lambda_points = 5, eps_points = 4, levels = 4;
+    int lambda_points = 5, eps_points = 4;
     std::string output;
     bool no_pareto = false, no_plots = false;
   };
@@ -33,7 +35,7 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: none)")->capture_default_str();
   cmd->add_option("--eps-min", a->eps_min, "smallest epsilon per unit weight [m^2]")->capture_default_str();
   cmd->add_option("--eps-max", a->eps_max, "largest epsilon")->capture_default_str();
-  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--pareto-level", a->o.pareto_level, "pyramid level of the Pareto fronts")->capture_default_str();
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
@@ -42,7 +44,7 @@ void add_report_command(CLI::App& app) {
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);
     if (a->eps_points > 0) o.epsilons = log_grid(a->eps_min, a->eps_max, a->eps_points);
-    o.tracker.levels = a->levels;
+    o.tracker = a->tracker->options();
     o.pareto = !a->no_pareto;
     o.plots = !a->no_plots;
     const ReportResult r = build_report(o, a->output);

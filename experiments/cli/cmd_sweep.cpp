@@ -4,15 +4,18 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
+#include "experiments/tracker_config.h"
 #include "experiments/parameter_sweep.h"
 
 namespace bivo::experiments::cli {
 
 void add_sweep_command(CLI::App& app) {
   struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
     SweepOptions o;
     double lambda_min = 10, lambda_max = 1e6, eps_min = 1e-5, eps_max = 1e-2;
-    int lambda_points = 6, eps_points = 4, levels = 4;
+    int lambda_points = 6, eps_points = 4;
     std::string output;
   };
   auto a = std::make_shared<Args>();
@@ -27,14 +30,15 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--eps-backend", a->o.epsilon_backend, "backend of the bounded runs (default exact)");
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
-  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for sweep.csv / sweep.json / sweep.md")->required();
   cmd->callback([a] {
     SweepOptions o = a->o;
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);
     if (a->eps_points > 0) o.epsilons = log_grid(a->eps_min, a->eps_max, a->eps_points);
-    o.tracker.levels = a->levels;
+    o.tracker = a->tracker->options();
     std::cout << write_sweep(run_sweep(o), a->output);
+    write_tracker_config(a->output + "/config.json", o.tracker);
   });
 }
 

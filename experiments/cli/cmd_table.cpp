@@ -5,6 +5,8 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
+#include "experiments/tracker_config.h"
 #include "experiments/method_matrix.h"
 #include "odometry/odometry_methods.h"
 
@@ -12,10 +14,11 @@ namespace bivo::experiments::cli {
 
 void add_table_command(CLI::App& app) {
   struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
     std::vector<std::string> sequences;
     std::vector<std::string> methods{"single", "tykkala", "weighted", "bounded"};
     std::string output;
-    int first_frame = 0, max_frames = -1, levels = 4;
+    int first_frame = 0, max_frames = -1;
   };
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("table", "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)");
@@ -28,17 +31,18 @@ void add_table_command(CLI::App& app) {
       ->required();
   cmd->add_option("--first-frame", a->first_frame, "first associated frame of every sequence")->capture_default_str();
   cmd->add_option("--max-frames", a->max_frames, "frames per sequence (-1: all)")->capture_default_str();
-  cmd->add_option("--levels", a->levels, "pyramid levels")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->callback([a] {
     MatrixOptions o;
     o.sequences = a->sequences;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.first_frame = a->first_frame;
     o.max_frames = a->max_frames;
-    o.tracker.levels = a->levels;
+    o.tracker = a->tracker->options();
     o.trajectory_dir = a->output + "/trajectories";
     const MethodMatrix m = run_matrix(o);
     std::cout << write_matrix(m, a->output);
+    write_tracker_config(a->output + "/config.json", o.tracker);
   });
 }
 
