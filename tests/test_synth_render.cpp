@@ -9,6 +9,8 @@
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
+#include "odometry/synth/noise_field.h"
+#include "odometry/synth/random.h"
 #include "odometry/synth/render.h"
 #include "odometry/synth/scene.h"
 #include "odometry/synth/texture.h"
@@ -102,7 +104,7 @@ TEST(SynthRender, DepthNoiseMatchesKinectModel) {
       const double z = f.true_depth[i];
       r.push_back((f.depth[i] / 5000.0 - z) / (z * z));
     }
-    const double q = step / (s.camera.fx * s.depth.baseline_m);
+    const double q = step / (s.depth.ir_focal_px * s.depth.baseline_m);
     const double expected = std::sqrt(s.depth.noise_coeff * s.depth.noise_coeff + q * q / 12.0);
     std::cout << "disparity step " << step << " px: sd((z_noisy - z)/z^2) = " << stddev(r) << " (model " << expected
               << ")\n";
@@ -244,4 +246,63 @@ TEST(SynthTexture, MipLevelsAreBoxAverages) {
   EXPECT_NEAR(tex.sample((3 + 0.5f) / n, (4 + 0.5f) / n, 1.0f).x(), 1.0f, 1e-6f);
   EXPECT_NEAR(tex.sample((4 + 0.5f) / n, (4 + 0.5f) / n, 1.0f).x(), 0.0f, 1e-6f);
   EXPECT_THROW(synth::MipTexture(12, 16, std::vector<Eigen::Vector3f>(12 * 16)), bivo::Error);
+}
+
+TEST(SynthRender, CorrelatedDepthNoiseHasUnitVarianceAndGaussianCorrelation) {
+  // Oracle: white noise blurred by a Gaussian of sd s has correlation exp(-d^2 / (4 s^2))
+  // at distance d; the padding keeps unit variance up to the borders.
+  const double s = 2.0;
+  const int W = 160, H = 120;
+  double lag[3] = {0, 0, 0}, var = 0, corner_var = 0;
+  const int fields = 40;
+  int n = 0;
+  for (int k = 0; k < fields; ++k) {
+    const std::vector<float> f = synth::correlated_normal_field(synth::hash3(9, 0xD0, k), W, H, s);
+    corner_var += f[0] * f[0] + f[W - 1] * f[W - 1] + f[(H - 1) * W] * f[(H - 1) * W];
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u + 4 < W; ++u) {
+        const float a = f[v * W + u];
+        var += a * a;
+        lag[0] += a * f[v * W + u + 1];
+        lag[1] += a * f[v * W + u + 2];
+        lag[2] += a * f[v * W + u + 4];
+        ++n;
+      }
+    }
+  }
+  EXPECT_NEAR(var / n, 1.0, 0.03);
+  EXPECT_NEAR(corner_var / (3 * fields), 1.0, 0.4);  // 120 samples: sd of the estimate ~0.13
+  const int d[3] = {1, 2, 4};
+  for (int i = 0; i < 3; ++i) {
+    const double model = std::exp(-d[i] * d[i] / (4 * s * s));
+    std::cout << "lag " << d[i] << " px: correlation " << lag[i] / var << " (model " << model << ")\n";
+    EXPECT_NEAR(lag[i] / var, model, 0.03);
+  }
+  // s = 0: independent pixels.
+  const std::vector<float> white = synth::correlated_normal_field(3, W, H, 0.0);
+  double c = 0, w2 = 0;
+  for (int i = 0; i + 1 < W * H; ++i) c += white[i] * white[i + 1], w2 += white[i] * white[i];
+  EXPECT_NEAR(c / w2, 0.0, 0.02);
+}
+
+TEST(SynthRender, DepthLevelsAreSpacedLikeRealFr3Frames) {
+  // Measured between consecutive depth levels of the real fr3/structure_texture_near frames
+  // of ../shared/data: 2.92e-3 z^2 (z 0.9-2.6 m). Model: z^2 * step / (f_ir * baseline).
+  const synth::Scene scene = synth::build_scene(synth::parse_category("structure_notexture_far"), 4);
+  synth::RenderSettings s;
+  s.depth.noise_coeff = 0;  // quantization only
+  const synth::RenderedFrame f = synth::render_frame(scene, scene.nominal_T_wc, s, 0);
+  std::vector<int> levels(f.depth.begin(), f.depth.end());
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  std::vector<double> k;
+  for (std::size_t i = 1; i < levels.size(); ++i) {
+    if (levels[i - 1] == 0) continue;
+    const double z0 = levels[i - 1] / 5000.0, z1 = levels[i] / 5000.0, zm = 0.5 * (z0 + z1);
+    k.push_back((z1 - z0) / (zm * zm));
+  }
+  ASSERT_GT(k.size(), 50u);
+  std::nth_element(k.begin(), k.begin() + k.size() / 2, k.end());
+  std::cout << "depth level spacing / z^2: " << k[k.size() / 2] << " (real fr3 2.92e-3)\n";
+  EXPECT_NEAR(k[k.size() / 2], 2.92e-3, 0.05 * 2.92e-3);
 }

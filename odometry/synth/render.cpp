@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "odometry/synth/noise_field.h"
 #include "odometry/synth/random.h"
 #include "solvers/error.h"
 
@@ -24,6 +25,7 @@ struct CameraPanel {
   double inv_len2_u, inv_len2_v; // 1 / |edge|^2
   double len_u, len_v;
   int material;
+  std::uint64_t key;             // which poster each texture cell shows (scene seed, panel index)
 };
 
 struct Hit {
@@ -72,8 +74,26 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
 
   const Eigen::Matrix3d R_cw = T_wc.linear().transpose();
   const Eigen::Vector3d t_cw = -R_cw * T_wc.translation();
+  // Panels wholly outside the view frustum (all corners beyond one side plane, padded by
+  // a pixel for the supersampled rays) are not cast against: the zig-zag has 24 panels.
+  const double pad = 1.0;
+  const double kx0 = (-pad - cam.cx) / cam.fx, kx1 = (cam.width - 1 + pad - cam.cx) / cam.fx;
+  const double ky0 = (-pad - cam.cy) / cam.fy, ky1 = (cam.height - 1 + pad - cam.cy) / cam.fy;
+  const auto outside_frustum = [&](const Panel& p) {
+    bool out[4] = {true, true, true, true};
+    for (const Eigen::Vector3d& w : {p.origin, Eigen::Vector3d(p.origin + p.edge_u),
+                                     Eigen::Vector3d(p.origin + p.edge_v), Eigen::Vector3d(p.origin + p.edge_u + p.edge_v)}) {
+      const Eigen::Vector3d q = R_cw * w + t_cw;
+      out[0] = out[0] && q.x() < kx0 * q.z();
+      out[1] = out[1] && q.x() > kx1 * q.z();
+      out[2] = out[2] && q.y() < ky0 * q.z();
+      out[3] = out[3] && q.y() > ky1 * q.z();
+    }
+    return out[0] || out[1] || out[2] || out[3];
+  };
   std::vector<CameraPanel> panels;
   for (const Panel& p : scene.panels) {
+    if (outside_frustum(p)) continue;
     CameraPanel c;
     c.origin = R_cw * p.origin + t_cw;
     c.edge_u = R_cw * p.edge_u;
@@ -85,11 +105,10 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     c.inv_len2_u = 1.0 / (c.len_u * c.len_u);
     c.inv_len2_v = 1.0 / (c.len_v * c.len_v);
     c.material = p.material;
+    c.key = hash3(scene.seed, 0xCE11, static_cast<std::uint64_t>(&p - scene.panels.data()));
     panels.push_back(c);
   }
-  const Eigen::Vector3d light_c = R_cw * scene.light_direction;
-  std::vector<std::uint64_t> panel_keys;  // which poster each texture cell shows
-  for (std::size_t k = 0; k < scene.panels.size(); ++k) panel_keys.push_back(hash3(scene.seed, 0xCE11, k));
+  const Eigen::Vector3d light_c = R_cw * scene.light_position + t_cw;
 
   const int W = cam.width, H = cam.height, ss = settings.supersampling;
   const double focal = std::sqrt(cam.fx * cam.fy);
@@ -114,7 +133,7 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     const std::uint64_t cell = (static_cast<std::uint64_t>(cu) << 32) ^ static_cast<std::uint64_t>(cv);
     const int tex = m.textures.size() == 1
                         ? m.textures[0]
-                        : m.textures[mix64(panel_keys[hit.panel] ^ cell) % m.textures.size()];
+                        : m.textures[mix64(p.key ^ cell) % m.textures.size()];
     const MipTexture& T = scene.textures[tex];
     // Footprint on the surface: z/f per pixel across the ray, stretched by 1/cos along
     // the slope; the geometric mean of the two makes an isotropic filter width.
@@ -123,7 +142,10 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     const Eigen::Vector3f albedo = T.sample(static_cast<float>(u_m / m.tile_u_m - cu),
                                             static_cast<float>(v_m / m.tile_v_m - cv), texels);
     const Eigen::Vector3d n = p.normal.dot(ray) > 0 ? Eigen::Vector3d(-p.normal) : p.normal;
-    const double lit = scene.ambient + scene.diffuse * std::max(0.0, n.dot(light_c));
+    const Eigen::Vector3d to_light = light_c - hit.z * ray;  // rays have unit z: hit.z * ray is the point
+    const double r = to_light.norm();
+    const double falloff = scene.light_reference_m * scene.light_reference_m / (r * r);
+    const double lit = scene.ambient + scene.diffuse * std::max(0.0, n.dot(to_light) / r) * falloff;
     return albedo * static_cast<float>(lit);
   };
 
@@ -197,14 +219,16 @@ RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, co
     }
   }
 
-  const double fb = cam.fx * dm.baseline_m;
+  const double fb = dm.ir_focal_px * dm.baseline_m;
   const std::uint64_t depth_key = hash3(settings.noise_seed, kDepthStream, frame_index);
+  const std::vector<float> depth_noise =
+      settings.sensor_noise ? correlated_normal_field(depth_key, W, H, dm.noise_correlation_px) : std::vector<float>();
   std::size_t n_valid = 0;
   for (std::size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) continue;
     double z = out.true_depth[i];
     if (settings.sensor_noise) {
-      z += dm.noise_coeff * z * z * gaussian_pair(depth_key, i).a;
+      z += dm.noise_coeff * z * z * depth_noise[i];
       if (dm.disparity_step_px > 0 && z > 0) {
         const double disparity = std::round(fb / z / dm.disparity_step_px) * dm.disparity_step_px;
         z = disparity > 0 ? fb / disparity : 0.0;

@@ -126,38 +126,51 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
 
   const Eigen::Vector3d along(2 * kHalfLength, 0, 0);
   const double d = category.distance_m();
+  // Nominal view: looking straight at the scene (along +y), pitched down as the real fr3
+  // recordings are (their optical axes meet the floor 1.36 / 2.16 m in front of the camera
+  // at heights 0.88 / 1.09 m, structure near / far; nostructure_texture_near_withloop:
+  // 55 degrees at 1.07 m).
+  double pitch_deg = 55.0;
   if (category.structure) {
-    // Zig-zag profile in the (y, z) plane: fold lines alternate between y = 0 (towards the
-    // camera) and y = 0.3, every 0.3 m of height up to 1.2 m; extruded along x.
-    const double ys[] = {0.0, 0.3, 0.0, 0.3, 0.0};
-    const double zs[] = {0.0, 0.3, 0.6, 0.9, 1.2};
-    for (int i = 0; i < 4; ++i) {
-      const Eigen::Vector3d a(-kHalfLength, ys[i], zs[i]);
-      const Eigen::Vector3d b(-kHalfLength, ys[i + 1], zs[i + 1]);
-      s.panels.push_back(rectangle("zigzag_" + std::to_string(i), a, along, b - a, 0));
+    // Zig-zag profile in the (x, y) plane: vertical fold lines every kFoldPitch along x,
+    // alternating between y = 0 (towards the camera) and y = kFoldDepth; 1 m high.
+    constexpr double kFoldPitch = 0.5, kFoldDepth = 0.4, kHeight = 1.0, kWallY = kFoldDepth + 1.5;
+    const int n = static_cast<int>(std::lround(2 * kHalfLength / kFoldPitch));
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3d a(-kHalfLength + i * kFoldPitch, i % 2 ? kFoldDepth : 0.0, 0.0);
+      const Eigen::Vector3d b(-kHalfLength + (i + 1) * kFoldPitch, i % 2 ? 0.0 : kFoldDepth, 0.0);
+      s.panels.push_back(rectangle("zigzag_" + std::to_string(i), a, b - a, {0, 0, kHeight}, 0));
     }
-    s.panels.push_back(rectangle("floor", {-kHalfLength, -6.0, 0.0}, along, {0, 7.5, 0}, 1));
-    s.panels.push_back(rectangle("wall", {-kHalfLength, 1.5, 0.0}, along, {0, 0, 3.0}, 2));
-    // Looking 15 degrees down and 25 degrees sideways (so the folds recede in perspective)
-    // at the zig-zag, mid-way between two folds (on its surface).
-    s.target = Eigen::Vector3d(0.0, 0.15, 0.45);
-    const double pitch = 15.0 * M_PI / 180.0, yaw = 25.0 * M_PI / 180.0;
-    const Eigen::Vector3d dir(std::sin(yaw) * std::cos(pitch), std::cos(yaw) * std::cos(pitch), -std::sin(pitch));
-    s.nominal_T_wc = look_at(s.target - d * dir, s.target);
+    // Floor in three strips (no overlaps): far in front, the strip in front of and under
+    // the zig-zag (posters in the texture categories, as on the real floor), behind it.
+    constexpr double kStripFront = -2.5;
+    s.panels.push_back(rectangle("floor", {-kHalfLength, -6.0, 0.0}, along, {0, kStripFront + 6.0, 0}, 1));
+    s.panels.push_back(rectangle("floor_strip", {-kHalfLength, kStripFront, 0.0}, along,
+                                 {0, kFoldDepth - kStripFront, 0}, category.texture ? 0 : 1));
+    s.panels.push_back(rectangle("floor_back", {-kHalfLength, kFoldDepth, 0.0}, along,
+                                 {0, kWallY - kFoldDepth, 0}, 1));
+    s.panels.push_back(rectangle("wall", {-kHalfLength, kWallY, 0.0}, along, {0, 0, 3.0}, 2));
+    // The optical axis meets the zig-zag's mid plane (y = kFoldDepth / 2) mid-panel, at the
+    // height that puts the camera at the real one: low, so floor and panels share the view.
+    pitch_deg = category.near ? 31.0 : 27.0;
+    const double camera_height = category.near ? 0.88 : 1.09;
+    s.target = Eigen::Vector3d(0.5 * kFoldPitch, 0.5 * kFoldDepth,
+                               camera_height - d * std::sin(pitch_deg * M_PI / 180.0));
   } else {
     s.panels.push_back(rectangle("plane", {-kHalfLength, -4.0, 0.0}, along, {0, 16.0, 0}, 0));
     s.target = Eigen::Vector3d::Zero();
-    const double pitch = 50.0 * M_PI / 180.0;
-    const Eigen::Vector3d dir(0.0, std::cos(pitch), -std::sin(pitch));
-    s.nominal_T_wc = look_at(s.target - d * dir, s.target);
   }
+  const double pitch = pitch_deg * M_PI / 180.0;
+  const Eigen::Vector3d dir(0.0, std::cos(pitch), -std::sin(pitch));
+  s.nominal_T_wc = look_at(s.target - d * dir, s.target);
   for (const auto& p : s.panels) {
     if (std::fabs(p.edge_u.dot(p.edge_v)) > 1e-9 * p.edge_u.norm() * p.edge_v.norm()) {
       throw Error("panel '" + p.name + "' is not a rectangle");
     }
   }
-  // Room light from above, slightly in front of and left of the scene.
-  s.light_direction = Eigen::Vector3d(-0.3, -0.6, 0.75).normalized();
+  // A ceiling lamp 3.5 m above the floor, in front of and left of the scene.
+  s.light_position = s.target + Eigen::Vector3d(-1.0, -2.0, 3.5 - s.target.z());
+  s.light_reference_m = (s.light_position - s.target).norm();
   return s;
 }
 

@@ -1,17 +1,24 @@
 #pragma once
 // Scenes of the synthetic "Structure vs. Texture" set (TUM freiburg3 look-alikes): planar
-// textured rectangles, a directional light, and the nominal camera pose from which the
-// scene is viewed at the category's distance.
+// textured rectangles, a point light, and the nominal camera pose from which the scene is
+// viewed at the category's distance. Sizes and the nominal views follow the real fr3
+// recordings (docs/synthetic.md, "Scenes").
 //
-//  * structure: an upright zig-zag of four wooden panels (horizontal fold lines every
-//    0.3 m of height, 0.3 m fold depth, 1.2 m high, 12 m long) standing on a floor, with
-//    a wall 1.5 m behind it;
-//  * nostructure: one single plane (the floor), viewed obliquely (50 degrees down);
-//  * texture: the zig-zag panels (or the plane) are covered with colourful posters;
-//  * notexture: they are covered with near-uniform white foil (1% low-frequency albedo
-//    variation); floor and wall are near-uniform in every category;
-//  * near / far: the camera looks at the scene from 1 m / 2 m along its optical axis
-//    (structure: 15 degrees down, 25 degrees sideways; nostructure: 50 degrees down).
+//  * structure: a zig-zag of upright wooden panels standing on the floor, like a folding
+//    screen: vertical fold lines every 0.5 m along x, alternating between y = 0 and
+//    y = 0.4 m (panels 0.64 m wide, 1 m high, +-39 degrees to the zig-zag's line), 12 m
+//    long, a wall 1.5 m behind it. The panels' two normals and the floor's span all three
+//    directions, so depth alone constrains all six degrees of freedom;
+//  * nostructure: one single plane (the floor), nothing else;
+//  * texture: the panels (or the plane) and the floor strip in front of the zig-zag are
+//    covered with colourful posters; notexture: the panels (or the plane) are covered with
+//    near-uniform white foil (1% low-frequency albedo variation) and the strip is plain
+//    floor. Texture twins are the same geometry, only the albedo differs;
+//  * light: ambient plus a point light (a ceiling lamp) with inverse-square falloff, so
+//    even white foil shows faint smooth shading and a step where panels fold;
+//  * near / far: the nominal camera looks at the scene from the distances, heights and
+//    pitch angles of the real fr3 recordings (structure: 31 / 27 degrees down at 1.4 /
+//    2.25 m, both panels and floor in view; nostructure: 55 degrees down at 1.4 / 2.25 m).
 // World frame: z up, the zig-zag runs along x, the nominal camera looks along +y.
 #include <cstdint>
 #include <string>
@@ -29,8 +36,9 @@ struct SynthCategory {
   bool near = true;
   // e.g. "structure_texture_near", "nostructure_notexture_far".
   std::string name() const;
-  // Nominal camera-to-target distance along the optical axis: 1 m near, 2 m far.
-  double distance_m() const { return near ? 1.0 : 2.0; }
+  // Nominal camera-to-target distance along the optical axis: 1.4 m near, 2.25 m far
+  // (the real fr3 structure recordings: 1.2 m / 2 m horizontally from the zig-zag).
+  double distance_m() const { return near ? 1.4 : 2.25; }
 };
 
 // Accepts "structure_texture_near" (distance included; `distance` must then be empty or
@@ -63,9 +71,13 @@ struct Scene {
   std::vector<Panel> panels;
   std::vector<Material> materials;
   std::vector<MipTexture> textures;
-  // Lambertian shading: radiance = albedo * (ambient + diffuse * max(0, n . light)).
-  Eigen::Vector3d light_direction = Eigen::Vector3d::UnitZ();  // unit, towards the light
-  double ambient = 0.4, diffuse = 0.6;
+  // Lambertian shading under ambient light and one point light at light_position:
+  //   radiance = albedo * (ambient + diffuse * max(0, n . l) * (light_reference_m / r)^2)
+  // with l the unit direction and r the distance from the surface point to the light;
+  // light_reference_m is the light's distance to `target` (there the falloff factor is 1).
+  Eigen::Vector3d light_position = Eigen::Vector3d(0, 0, 3);
+  double light_reference_m = 3.0;
+  double ambient = 0.55, diffuse = 0.45;
   Eigen::Vector3f background = Eigen::Vector3f::Constant(0.3f);  // albedo-like, rays that miss
   Eigen::Isometry3d nominal_T_wc = Eigen::Isometry3d::Identity();
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // the point the nominal camera looks at

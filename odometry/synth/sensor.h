@@ -15,9 +15,16 @@ struct PinholeCamera {
 struct DepthSensorModel {
   // Axial noise sigma_z = noise_coeff * z^2 [m] (Khoshelham & Elberink 2012, Kinect).
   double noise_coeff = 1.425e-3;
-  // Structured light measures disparity d = fx * baseline / z in steps of disparity_step_px
-  // (Kinect: 1/8 pixel), so depth is quantized in steps of z^2 * step / (fx * baseline).
+  // The noise is spatially correlated (the sensor matches its pattern over a window):
+  // Gaussian correlation of this standard deviation in pixels, 0 = independent pixels.
+  // Fitted to real fr3 depth frames (docs/synthetic.md, "Sensor model").
+  double noise_correlation_px = 2.0;
+  // Structured light measures disparity d = f_ir * baseline / z in the infrared camera (focal
+  // length ir_focal_px, not the colour camera's) in steps of disparity_step_px (Kinect: 1/8
+  // pixel), so depth is quantized in steps of z^2 * step / (f_ir * baseline): 2.93e-3 z^2,
+  // as measured between the depth levels of real fr3 frames (docs/synthetic.md).
   double baseline_m = 0.075;
+  double ir_focal_px = 569.4;
   double disparity_step_px = 0.125;
   // No measurement outside [min_range, max_range] (depth along the optical axis).
   double min_range_m = 0.5, max_range_m = 4.0;
