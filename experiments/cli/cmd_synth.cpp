@@ -1,10 +1,14 @@
 // `bivo synth`: renders one synthetic "Structure vs. Texture" RGB-D sequence in TUM format
-// along a real ground-truth trajectory (--trajectory) or generated hand-held motion.
+// along a real ground-truth trajectory (--trajectory) or generated hand-held motion, or the
+// fixed benchmark set of all eight categories (--benchmark-set, odometry/synth/benchmark_set.h).
+#include <chrono>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "experiments/cli/commands.h"
+#include "odometry/synth/benchmark_set.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
@@ -14,13 +18,43 @@ namespace bivo::experiments::cli {
 namespace {
 
 struct SynthArgs {
-  std::string category, distance, trajectory, output;
+  std::string category, distance, trajectory, output, trajectories;
   odometry::synth::SynthOptions options;
-  bool no_noise = false;
+  bool no_noise = false, benchmark_set = false;
 };
 
-void run_synth(const SynthArgs& a) {
+// Options that would change a benchmark rendering: refused with --benchmark-set.
+const char* const kPerSequenceOptions[] = {"--distance", "--trajectory", "--frames", "--seed", "--name",
+                                           "--start", "--fps", "--supersampling", "--depth-noise",
+                                           "--disparity-step", "--max-range", "--read-noise", "--shot-noise",
+                                           "--exposure-jitter", "--speed", "--angular-speed", "--no-noise"};
+
+void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
+  for (const char* name : kPerSequenceOptions) {
+    if (cmd.get_option(name)->count() > 0) {
+      throw Error(std::string("synth: --benchmark-set fixes every rendering parameter; drop ") + name);
+    }
+  }
+  if (a.trajectories.empty()) {
+    throw Error("synth: --benchmark-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
+                "../shared/data/trajectories)");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const std::string& dir :
+       odometry::synth::render_benchmark_set(a.trajectories, a.output, a.category, a.options.threads)) {
+    std::cout << dir << "\n";
+  }
+  std::cerr << "synth: benchmark set rendered in " << std::fixed << std::setprecision(1)
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
+}
+
+void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   namespace synth = odometry::synth;
+  if (a.benchmark_set) {
+    run_benchmark_set(a, cmd);
+    return;
+  }
+  if (a.category.empty()) throw Error("synth: --category is required (or --benchmark-set)");
   synth::SynthOptions o = a.options;
   o.category = synth::parse_category(a.category, a.distance);
   o.render.sensor_noise = !a.no_noise;
@@ -41,9 +75,15 @@ void add_synth_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "synth", "Render a synthetic TUM-format RGB-D sequence (Structure vs. Texture) with exact ground truth");
   cmd->add_option("--category", args->category,
-                  "structure_texture_near, ..., nostructure_notexture_far (or without _near/_far plus --distance)")
-      ->required();
-  cmd->add_option("--distance", args->distance, "near (1 m) or far (2 m), if not part of --category");
+                  "structure_texture_near, ..., nostructure_notexture_far (or without _near/_far plus --distance); "
+                  "with --benchmark-set: render only this entry");
+  cmd->add_option("--distance", args->distance, "near (1.4 m) or far (2.25 m), if not part of --category");
+  cmd->add_flag("--benchmark-set", args->benchmark_set,
+                "render the fixed benchmark set: all 8 categories, 300 frames each along real fr3 motion, fixed "
+                "seeds (byte-identical everywhere); needs --trajectories");
+  cmd->add_option("--trajectories", args->trajectories,
+                  "--benchmark-set: folder with the TUM *-groundtruth.txt files (../shared/data/trajectories)")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--trajectory", args->trajectory,
                   "TUM ground-truth trajectory to follow (re-anchored rigidly); default: generated hand-held motion")
       ->check(CLI::ExistingFile);
@@ -75,7 +115,7 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "render threads (0 = one per hardware thread)")->capture_default_str();
   cmd->add_flag("--no-noise", args->no_noise, "no random sensor noise and no disparity quantization");
-  cmd->callback([args] { run_synth(*args); });
+  cmd->callback([args, cmd] { run_synth(*args, *cmd); });
 }
 
 }  // namespace bivo::experiments::cli
