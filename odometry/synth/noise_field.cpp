@@ -30,23 +30,25 @@ std::vector<float> correlated_normal_field(std::uint64_t key, int width, int hei
   const int pw = width + 2 * r, ph = height + 2 * r;
   std::vector<float> white(static_cast<std::size_t>(pw) * ph);
   for (std::size_t i = 0; i < white.size(); ++i) white[i] = gaussian_pair(key, i).a;
-  std::vector<float> rows(static_cast<std::size_t>(pw) * height);  // blurred along v
+  // Both passes accumulate tap by tap over whole rows (contiguous, vectorizable); every
+  // output still sums its taps in the order k = 0 .. 2r.
+  std::vector<float> rows(static_cast<std::size_t>(pw) * height, 0.0f);  // blurred along v
   for (int v = 0; v < height; ++v) {
-    for (int u = 0; u < pw; ++u) {
-      float acc = 0;
-      for (int k = 0; k <= 2 * r; ++k) acc += kernel[k] * white[static_cast<std::size_t>(v + k) * pw + u];
-      rows[static_cast<std::size_t>(v) * pw + u] = acc;
+    float* out = &rows[static_cast<std::size_t>(v) * pw];
+    for (int k = 0; k <= 2 * r; ++k) {
+      const float* in = &white[static_cast<std::size_t>(v + k) * pw];
+      for (int u = 0; u < pw; ++u) out[u] += kernel[k] * in[u];
     }
   }
   const float scale = static_cast<float>(1.0 / sum_sq);  // 1 / sqrt(sum_sq^2)
-  std::vector<float> field(n);
+  std::vector<float> field(n, 0.0f);
   for (int v = 0; v < height; ++v) {
     const float* row = &rows[static_cast<std::size_t>(v) * pw];
-    for (int u = 0; u < width; ++u) {
-      float acc = 0;
-      for (int k = 0; k <= 2 * r; ++k) acc += kernel[k] * row[u + k];
-      field[static_cast<std::size_t>(v) * width + u] = acc * scale;
+    float* out = &field[static_cast<std::size_t>(v) * width];
+    for (int k = 0; k <= 2 * r; ++k) {
+      for (int u = 0; u < width; ++u) out[u] += kernel[k] * row[u + k];
     }
+    for (int u = 0; u < width; ++u) out[u] *= scale;
   }
   return field;
 }
