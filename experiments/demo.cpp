@@ -50,7 +50,8 @@ DemoResult run_demo(const DemoOptions& a) {
   o.plots = a.plots;
   std::ostringstream pre;
   pre << "Four synthetic TUM-format sequences rendered by `bivo synth`'s renderer (the near categories of the "
-         "paper's table 1: poor/rich structure x rich/poor texture, camera about 1 m from the scene), "
+         "paper's table 1: poor/rich structure x rich/poor texture; structure = zig-zag panels standing on a "
+         "floor, both in view, texture = posters, no texture = white foil; camera 1.4 m from the scene), "
       << a.frames << " frames at 30 Hz each along generated hand-held motion (seed " << a.seed
       << "), Kinect-like depth and intensity noise; ground truth is exact. Motion is estimated coarse to fine "
          "down to pyramid level "
