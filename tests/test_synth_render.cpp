@@ -132,8 +132,9 @@ TEST(SynthRender, IntensityNoiseMatchesSensorModel) {
 
 TEST(SynthRender, CategoriesDifferInTextureAndStructureAsNamed) {
   // Texture: the paper's pi(I) (eq. `image complexity metric`) on noise-free renderings;
-  // "notexture" is near-uniform: a plane of it gives pi(I) ~ 0.04 gray levels; the zig-zag
-  // adds only the shading steps at its folds and the floor line (measured ~1.7 vs ~20).
+  // "notexture" is near-uniform but, like real white foil, not perfectly: a plane of it
+  // gives pi(I) ~ 0.26 gray levels (the lamp's smooth shading), the zig-zag ~ 0.76 (plus the
+  // shading steps at its folds and the floor line), texture ~ 21-24.
   // Structure: RMS distance of the back-projected points to their least-squares plane;
   // "nostructure" is one plane (zero up to float rounding), "structure" is not.
   double pi_i[2][2], plane_rms[2][2];
@@ -164,6 +165,7 @@ TEST(SynthRender, CategoriesDifferInTextureAndStructureAsNamed) {
   }
   for (bool st : {false, true}) {
     EXPECT_LT(pi_i[st][false], 2.5) << "notexture, structure=" << st;
+    EXPECT_GT(pi_i[st][false], 0.1) << "notexture must keep its faint shading, structure=" << st;
     EXPECT_GT(pi_i[st][true], 8.0 * pi_i[st][false]) << "structure=" << st;
     EXPECT_LT(plane_rms[false][st], 1e-5) << "nostructure, texture=" << st;
     EXPECT_GT(plane_rms[true][st], 0.05) << "structure, texture=" << st;
