@@ -50,10 +50,11 @@ TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
   const double plane = depth_only_rms_pair_error("nostructure_notexture_far", out);
   std::cout << "depth-only RMS per-pair translation error: structure_notexture_far " << structure * 1000
             << " mm, nostructure_notexture_far " << plane * 1000 << " mm\n";
-  // 1.5 mm per pair at 30 Hz is ~0.008 m/s over 1 s if the errors are independent; this
-  // faster generated motion measures 0.9 mm, the 300-frame far benchmark renderings 0.7-0.8
-  // (docs/synthetic.md). Panels without a floor (one translation unobservable) give tens of mm.
-  EXPECT_LT(structure, 1.5e-3);
+  // This faster generated motion measures 0.90 mm; the 300-frame far benchmark renderings
+  // 1.08 mm RMS per pair and 0.0079 m/s RPE against the 0.01 m/s the benchmark requires
+  // (docs/synthetic.md), so the bound keeps about that margin. Panels without a floor (one
+  // translation unobservable) gave tens of mm.
+  EXPECT_LT(structure, 1.2e-3);
   // The plane leaves sliding along it to the motion prior: errors of the size of the motion.
   EXPECT_GT(plane, 10.0 * structure);
   fs::remove_all(out);
