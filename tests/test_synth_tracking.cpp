@@ -1,7 +1,7 @@
 // Cheap guard of the benchmark set's key property (docs/synthetic.md "Benchmark set"): on a
 // structure scene, depth-only tracking with the tracker's default parameters follows the
 // camera (the full 300-frame check must reach <= 0.01 m/s RPE); on the plane it cannot.
-// Short renderings (12 frames of generated hand-held motion at 640x480, no data needed)
+// Short renderings (12 frames, 6 for the plane, of generated hand-held motion at 640x480, no data needed)
 // at the far distance, the harder of the two; ground truth is exact.
 #include <sys/types.h>
 #include <unistd.h>
@@ -21,10 +21,10 @@ namespace synth = bivo::odometry::synth;
 namespace {
 
 // RMS over the pairs of the translation error of T_21 against ground truth [m].
-double depth_only_rms_pair_error(const std::string& category, const fs::path& out) {
+double depth_only_rms_pair_error(const std::string& category, int frames, const fs::path& out) {
   synth::SynthOptions o;
   o.category = synth::parse_category(category);
-  o.frames = 12;
+  o.frames = frames;
   o.seed = 5;
   const std::string seq = synth::render_sequence(o, out.string());
   bivo::odometry::TrackerOptions t;  // defaults, as the benchmark check runs them
@@ -46,8 +46,10 @@ double depth_only_rms_pair_error(const std::string& category, const fs::path& ou
 TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
   const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_tracking_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  const double structure = depth_only_rms_pair_error("structure_notexture_far", out);
-  const double plane = depth_only_rms_pair_error("nostructure_notexture_far", out);
+  const double structure = depth_only_rms_pair_error("structure_notexture_far", 12, out);
+  // The control fails by far more than the margin: 6 frames are enough (the test's cost is
+  // mostly rendering and PNG writing).
+  const double plane = depth_only_rms_pair_error("nostructure_notexture_far", 6, out);
   std::cout << "depth-only RMS per-pair translation error: structure_notexture_far " << structure * 1000
             << " mm, nostructure_notexture_far " << plane * 1000 << " mm\n";
   // This faster generated motion measures 0.90 mm; the 300-frame far benchmark renderings
