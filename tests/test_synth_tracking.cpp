@@ -1,8 +1,8 @@
 // Cheap guard of the benchmark set's key property (docs/synthetic.md "Benchmark set"): on a
 // structure scene, depth-only tracking with the tracker's default parameters follows the
 // camera (the full 300-frame check must reach <= 0.01 m/s RPE); on the plane it cannot.
-// Short renderings (12 frames, 6 for the plane, of generated hand-held motion at 640x480, no data needed)
-// at the far distance, the harder of the two; ground truth is exact.
+// Short renderings (12 frames, 6 for the plane, of generated hand-held motion at 640x480,
+// no data needed) at the far distance, the harder of the two; ground truth is exact.
 #include <sys/types.h>
 #include <unistd.h>
 
