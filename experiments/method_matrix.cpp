@@ -24,7 +24,16 @@ std::string label(const MethodSpec& spec) {
   return spec.backend.empty() ? spec.method : spec.method + " (" + spec.backend + ")";
 }
 
-MethodMatrix run_matrix(const MatrixOptions& options) {
+std::string sequence_label(const std::string& dir) {
+  auto name = std::filesystem::path(dir).lexically_normal().filename().string();
+  if (name.empty()) name = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
+  // Column headers: "freiburg1_rpy" rather than "rgbd_dataset_freiburg1_rpy".
+  const std::string prefix = "rgbd_dataset_";
+  if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size()) name = name.substr(prefix.size());
+  return name;
+}
+
+void check_matrix_options(const MatrixOptions& options) {
   if (options.sequences.empty()) throw Error("no sequences given");
   if (options.methods.empty()) throw Error("no methods given");
   for (const auto& m : options.methods) {
@@ -33,62 +42,78 @@ MethodMatrix run_matrix(const MatrixOptions& options) {
     t.backend = m.backend;
     odometry::validate(t);
   }
-  MethodMatrix out;
-  out.methods = options.methods;
-  for (const auto& dir : options.sequences) {
-    auto name = std::filesystem::path(dir).lexically_normal().filename().string();
-    if (name.empty()) name = std::filesystem::path(dir).lexically_normal().parent_path().filename().string();
-    // Column headers: "freiburg1_rpy" rather than "rgbd_dataset_freiburg1_rpy".
-    const std::string prefix = "rgbd_dataset_";
-    if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size()) name = name.substr(prefix.size());
-    out.sequences.push_back(name);
+}
+
+MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequence) {
+  const MethodSpec& m = options.methods.at(method);
+  MatrixCell cell;
+  cell.sequence_dir = options.sequences.at(sequence);
+  cell.sequence = sequence_label(cell.sequence_dir);
+  cell.spec = m;
+  RunRequest req;
+  req.sequence_dir = cell.sequence_dir;
+  req.tracker = options.tracker;
+  req.tracker.method = m.method;
+  req.tracker.backend = m.backend;
+  req.first_frame = options.first_frame;
+  req.max_frames = options.max_frames;
+  req.progress = options.progress;
+  req.label = cell.sequence + " " + label(m);
+  cell.backend = effective_backend(req.tracker);
+  try {
+    cell.run = run_sequence(req);
+  } catch (const Error& e) {
+    cell.note = std::string("run failed: ") + e.what();
+    return cell;
   }
-  for (const auto& m : options.methods) {
-    for (size_t s = 0; s < options.sequences.size(); ++s) {
-      MatrixCell cell;
-      cell.sequence_dir = options.sequences[s];
-      cell.sequence = out.sequences[s];
-      cell.spec = m;
-      RunRequest req;
-      req.sequence_dir = cell.sequence_dir;
-      req.tracker = options.tracker;
-      req.tracker.method = m.method;
-      req.tracker.backend = m.backend;
-      req.first_frame = options.first_frame;
-      req.max_frames = options.max_frames;
-      req.progress = options.progress;
-      req.label = cell.sequence + " " + label(m);
-      cell.backend = effective_backend(req.tracker);
-      try {
-        cell.run = run_sequence(req);
-      } catch (const Error& e) {
-        cell.note = std::string("run failed: ") + e.what();
-        out.cells.push_back(std::move(cell));
-        continue;
-      }
-      if (!options.trajectory_dir.empty()) {
-        std::filesystem::create_directories(options.trajectory_dir);
-        odometry::io::write_tum_trajectory(options.trajectory_dir + "/" + cell.sequence + "__" + m.method +
-                                           (m.backend.empty() ? "" : "-" + m.backend) + ".txt",
-                                       cell.run->trajectory);
-      }
-      if (!cell.run->groundtruth) {
-        cell.note = "no groundtruth.txt";
-      } else {
-        try {
-          cell.rpe = odometry::io::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
-        } catch (const Error& e) {
-          cell.note = std::string("no RPE: ") + e.what();
-        }
-        try {
-          cell.ate = odometry::io::absolute_trajectory_error(*cell.run->groundtruth, cell.run->trajectory);
-        } catch (const Error& e) {
-          cell.note += std::string(cell.note.empty() ? "" : "; ") + "no ATE: " + e.what();
-        }
-      }
-      out.cells.push_back(std::move(cell));
+  if (!cell.run->groundtruth) {
+    cell.note = "no groundtruth.txt";
+  } else {
+    try {
+      cell.rpe = odometry::io::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
+    } catch (const Error& e) {
+      cell.note = std::string("no RPE: ") + e.what();
+    }
+    try {
+      cell.ate = odometry::io::absolute_trajectory_error(*cell.run->groundtruth, cell.run->trajectory);
+    } catch (const Error& e) {
+      cell.note += std::string(cell.note.empty() ? "" : "; ") + "no ATE: " + e.what();
     }
   }
+  return cell;
+}
+
+MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCell> cells) {
+  if (cells.size() != options.methods.size() * options.sequences.size()) {
+    throw Error("method matrix: " + std::to_string(cells.size()) + " cells for " +
+                std::to_string(options.methods.size()) + " methods x " + std::to_string(options.sequences.size()) +
+                " sequences");
+  }
+  MethodMatrix out;
+  out.methods = options.methods;
+  for (const auto& dir : options.sequences) out.sequences.push_back(sequence_label(dir));
+  out.cells = std::move(cells);
+  return out;
+}
+
+void write_matrix_trajectories(const MethodMatrix& matrix, const std::string& dir) {
+  for (const auto& cell : matrix.cells) {
+    if (!cell.run) continue;
+    std::filesystem::create_directories(dir);
+    odometry::io::write_tum_trajectory(dir + "/" + cell.sequence + "__" + cell.spec.method +
+                                           (cell.spec.backend.empty() ? "" : "-" + cell.spec.backend) + ".txt",
+                                       cell.run->trajectory);
+  }
+}
+
+MethodMatrix run_matrix(const MatrixOptions& options) {
+  check_matrix_options(options);
+  std::vector<MatrixCell> cells;
+  for (int m = 0; m < int(options.methods.size()); ++m) {
+    for (int s = 0; s < int(options.sequences.size()); ++s) cells.push_back(run_matrix_cell(options, m, s));
+  }
+  MethodMatrix out = assemble_matrix(options, std::move(cells));
+  if (!options.trajectory_dir.empty()) write_matrix_trajectories(out, options.trajectory_dir);
   return out;
 }
 

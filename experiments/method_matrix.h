@@ -47,9 +47,28 @@ struct MethodMatrix {
   const MatrixCell& at(int method, int sequence) const { return cells[method * sequences.size() + sequence]; }
 };
 
-// Runs every cell. A run that throws bivo::Error (e.g. a method that cannot process a
-// sequence) is recorded in the cell's note and the matrix goes on; bad options (unknown
-// method or backend) are checked for every method before anything runs and throw.
+// The column header of a sequence folder: its name without the "rgbd_dataset_" prefix.
+std::string sequence_label(const std::string& sequence_dir);
+
+// Throws bivo::Error when there are no sequences or methods, or a method/backend is bad
+// (checked for every method before anything runs).
+void check_matrix_options(const MatrixOptions& options);
+
+// One work unit of the matrix: options.methods[method] on options.sequences[sequence]. A run
+// that throws bivo::Error (e.g. a method that cannot process a sequence) is recorded in the
+// cell's note. Writes nothing (trajectory_dir is not used).
+MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequence);
+
+// The matrix from its cells in row-major order (methods x sequences); throws bivo::Error
+// when the count does not match.
+MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCell> cells);
+
+// <dir>/<sequence>__<method>[-<backend>].txt for every cell that ran (created when missing).
+void write_matrix_trajectories(const MethodMatrix& matrix, const std::string& dir);
+
+// Every cell in one process (the study layer, study.h, runs the same cells as shards):
+// check_matrix_options, run_matrix_cell for each, assemble_matrix, and the trajectories
+// when options.trajectory_dir is set.
 MethodMatrix run_matrix(const MatrixOptions& options);
 
 // Writes into `dir` (created when missing): rpe_trans.{md,csv}, rpe_rot.csv, ate.csv,

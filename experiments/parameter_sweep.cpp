@@ -29,66 +29,118 @@ std::vector<double> log_grid(double lo, double hi, int n) {
   return v;
 }
 
-SweepResult run_sweep(const SweepOptions& o) {
+std::vector<SweepUnit> sweep_units(const SweepOptions& o) {
   if (o.sequences.empty()) throw Error("sweep: no sequences given");
   if (o.lambdas.empty() && o.epsilons.empty()) throw Error("sweep: neither lambdas nor epsilons given");
-  SweepResult out;
-  for (const auto& dir : o.sequences) {
-    RunRequest base;
-    base.sequence_dir = dir;
-    base.tracker = o.tracker;
-    base.first_frame = o.first_frame;
-    base.max_frames = o.max_frames;
-    base.progress = o.progress;
-    auto run_rpe = [&](RunRequest req, const std::string& what) {
-      req.label = std::filesystem::path(dir).filename().string() + " " + what;
-      RunOutcome run = run_sequence(req);
-      if (!run.groundtruth) throw Error("sweep: sequence '" + dir + "' has no groundtruth.txt");
-      return std::make_pair(odometry::io::relative_pose_error(*run.groundtruth, run.trajectory), run);
-    };
-    RunRequest single = base;
-    single.tracker.method = "single";
-    single.tracker.backend = "";
-    const auto [ref, ref_run] = run_rpe(single, "single");
-    if (!(ref.trans_rmse > 0) || !(ref.trans_max > 0)) {
-      throw Error("sweep: the single-objective run on '" + dir + "' has zero error; ratios are undefined");
-    }
-    auto add = [&](const std::string& parameter, double value, RunRequest req) {
-      std::ostringstream what;
-      what << parameter << "=" << value;
-      try {
-        const auto [rpe, run] = run_rpe(req, what.str());
-        SweepPoint p;
-        p.sequence = ref_run.sequence.rfind("rgbd_dataset_", 0) == 0 ? ref_run.sequence.substr(13) : ref_run.sequence;
-        p.parameter = parameter;
-        p.value = value;
-        p.rpe_trans = rpe.trans_rmse;
-        p.max_err = rpe.trans_max;
-        p.rmse_ratio = rpe.trans_rmse / ref.trans_rmse;
-        p.max_ratio = rpe.trans_max / ref.trans_max;
-        p.median_ms = run.median_ms;
-        p.failures = run.failures;
-        out.points.push_back(p);
-      } catch (const Error& e) {
-        out.notes.push_back(ref_run.sequence + " " + what.str() + ": " + e.what());
-      }
-    };
-    for (double lambda : o.lambdas) {
-      RunRequest req = base;
-      req.tracker.method = "fixed";
-      req.tracker.backend = "";
-      req.tracker.policy.lambda = lambda;
-      add("lambda", lambda, req);
-    }
-    for (double eps : o.epsilons) {
-      RunRequest req = base;
-      req.tracker.method = "bounded";
-      req.tracker.backend = o.epsilon_backend;
-      req.tracker.policy.eps = eps;
-      add("epsilon", eps, req);
-    }
+  std::vector<SweepUnit> units;
+  for (int s = 0; s < int(o.sequences.size()); ++s) {
+    units.push_back({s, "single", 0.0});
+    for (double lambda : o.lambdas) units.push_back({s, "lambda", lambda});
+    for (double eps : o.epsilons) units.push_back({s, "epsilon", eps});
+  }
+  return units;
+}
+
+namespace {
+
+std::string point_name(const SweepUnit& u) {
+  std::ostringstream what;
+  if (u.parameter == "single") what << "single";
+  else what << u.parameter << "=" << u.value;
+  return what.str();
+}
+
+}  // namespace
+
+SweepRun run_sweep_unit(const SweepOptions& o, const SweepUnit& unit) {
+  const std::string& dir = o.sequences.at(unit.sequence);
+  RunRequest req;
+  req.sequence_dir = dir;
+  req.tracker = o.tracker;
+  req.first_frame = o.first_frame;
+  req.max_frames = o.max_frames;
+  req.progress = o.progress;
+  req.label = std::filesystem::path(dir).filename().string() + " " + point_name(unit);
+  req.tracker.backend = "";
+  if (unit.parameter == "single") {
+    req.tracker.method = "single";
+  } else if (unit.parameter == "lambda") {
+    req.tracker.method = "fixed";
+    req.tracker.policy.lambda = unit.value;
+  } else if (unit.parameter == "epsilon") {
+    req.tracker.method = "bounded";
+    req.tracker.backend = o.epsilon_backend;
+    req.tracker.policy.eps = unit.value;
+  } else {
+    throw Error("sweep: unknown parameter '" + unit.parameter + "'");
+  }
+  SweepRun out;
+  out.unit = unit;
+  out.sequence = std::filesystem::path(dir).filename().string();
+  try {
+    const RunOutcome run = run_sequence(req);
+    out.sequence = run.sequence;
+    if (!run.groundtruth) throw Error("sweep: sequence '" + dir + "' has no groundtruth.txt");
+    const auto rpe = odometry::io::relative_pose_error(*run.groundtruth, run.trajectory);
+    out.rpe_trans = rpe.trans_rmse;
+    out.max_err = rpe.trans_max;
+    out.median_ms = run.median_ms;
+    out.failures = run.failures;
+    out.ok = true;
+  } catch (const Error& e) {
+    out.error = e.what();
   }
   return out;
+}
+
+SweepResult assemble_sweep(const SweepOptions& o, const std::vector<SweepRun>& runs) {
+  const std::vector<SweepUnit> units = sweep_units(o);
+  if (runs.size() != units.size()) {
+    throw Error("sweep: " + std::to_string(runs.size()) + " runs for " + std::to_string(units.size()) + " units");
+  }
+  SweepResult out;
+  const SweepRun* ref = nullptr;
+  for (const SweepRun& r : runs) {
+    if (r.unit.parameter == "single") {
+      ref = &r;
+      if (r.missing) {
+        out.notes.push_back(r.sequence + ": the single-objective reference was not run; its points are left out");
+      } else if (!r.ok) {
+        throw Error(r.error);
+      } else if (!(r.rpe_trans > 0) || !(r.max_err > 0)) {
+        throw Error("sweep: the single-objective run on '" + o.sequences.at(r.unit.sequence) +
+                    "' has zero error; ratios are undefined");
+      }
+      continue;
+    }
+    if (!ref || ref->missing) continue;
+    if (r.missing) {
+      out.notes.push_back(ref->sequence + " " + point_name(r.unit) + ": not run");
+      continue;
+    }
+    if (!r.ok) {
+      out.notes.push_back(ref->sequence + " " + point_name(r.unit) + ": " + r.error);
+      continue;
+    }
+    SweepPoint p;
+    p.sequence = ref->sequence.rfind("rgbd_dataset_", 0) == 0 ? ref->sequence.substr(13) : ref->sequence;
+    p.parameter = r.unit.parameter;
+    p.value = r.unit.value;
+    p.rpe_trans = r.rpe_trans;
+    p.max_err = r.max_err;
+    p.rmse_ratio = r.rpe_trans / ref->rpe_trans;
+    p.max_ratio = r.max_err / ref->max_err;
+    p.median_ms = r.median_ms;
+    p.failures = r.failures;
+    out.points.push_back(p);
+  }
+  return out;
+}
+
+SweepResult run_sweep(const SweepOptions& o) {
+  std::vector<SweepRun> runs;
+  for (const SweepUnit& u : sweep_units(o)) runs.push_back(run_sweep_unit(o, u));
+  return assemble_sweep(o, runs);
 }
 
 std::string write_sweep(const SweepResult& r, const std::string& dir) {

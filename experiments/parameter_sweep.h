@@ -40,8 +40,37 @@ struct SweepResult {
   std::vector<std::string> notes;  // runs that failed or had no RPE (left out of points)
 };
 
-// Throws bivo::Error when a sequence has no ground truth or its single-objective run has no
-// RPE (the ratios would be undefined).
+// One work unit of a sweep: the single-objective reference run of a sequence, or one grid
+// point (method fixed at lambda = value, or bounded at eps = value).
+struct SweepUnit {
+  int sequence = 0;       // index into SweepOptions::sequences
+  std::string parameter;  // "single", "lambda" or "epsilon"
+  double value = 0;       // 0 for "single"
+};
+
+// What a unit measured. `error` is set when the run threw (or had no ground truth / no RPE);
+// `missing` marks a unit that was never run (a partial merge).
+struct SweepRun {
+  SweepUnit unit;
+  std::string sequence;  // the run's sequence name (folder name when the run failed)
+  bool ok = false, missing = false;
+  double rpe_trans = 0, max_err = 0, median_ms = 0;
+  int failures = 0;
+  std::string error;
+};
+
+// Per sequence: its reference, then every lambda, then every epsilon. Throws bivo::Error
+// when there are no sequences or no grid.
+std::vector<SweepUnit> sweep_units(const SweepOptions& options);
+SweepRun run_sweep_unit(const SweepOptions& options, const SweepUnit& unit);
+
+// The sweep from the runs of sweep_units(options) (same order): ratios to each sequence's
+// reference; failed grid points become notes. Throws bivo::Error when a reference failed
+// (no ground truth, no RPE) or has zero error (the ratios would be undefined); a missing
+// reference leaves its sequence out with a note.
+SweepResult assemble_sweep(const SweepOptions& options, const std::vector<SweepRun>& runs);
+
+// Every unit in one process, then assemble_sweep.
 SweepResult run_sweep(const SweepOptions& options);
 
 // sweep.csv (the columns of SweepPoint), sweep.json and sweep.md into dir (atomic); returns

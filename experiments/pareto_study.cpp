@@ -3,7 +3,6 @@
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
-#include <iostream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -175,14 +174,14 @@ std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int eve
   return pairs;
 }
 
-std::string write_pareto_studies(const ParetoStudyOptions& options, const std::vector<int>& pairs,
+std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const std::vector<std::string>& methods,
                                  const std::string& dir, bool plots) {
   std::filesystem::create_directories(dir);
   std::ostringstream md;
   md << "| pair | level | lambda-front points | epsilon-front points | knee F_I | knee F_D | knee error [mm] |";
-  for (const auto& m : options.methods) md << " " << m << " error [mm] |";
+  for (const auto& m : methods) md << " " << m << " error [mm] |";
   md << " seconds |\n|---|---:|---:|---:|---:|---:|---:|";
-  for (size_t i = 0; i < options.methods.size(); ++i) md << "---:|";
+  for (size_t i = 0; i < methods.size(); ++i) md << "---:|";
   md << "---:|\n";
   auto mm = [](const StudyPoint& p) {
     std::ostringstream s;
@@ -190,10 +189,8 @@ std::string write_pareto_studies(const ParetoStudyOptions& options, const std::v
     else s << "—";
     return s.str();
   };
-  for (int k : pairs) {
-    ParetoStudyOptions o = options;
-    o.pair = k;
-    const ParetoStudy s = run_pareto_study(o);
+  for (const ParetoStudy& s : studies) {
+    const int k = s.pair;
     const std::string base = dir + "/pareto_pair" + std::to_string(k);
     odometry::io::write_file_atomically(base + ".json", [&](std::ostream& out) { out << pareto_json(s); });
     if (plots) plot("pareto_front.py", {base + ".json", base + ".png"});
@@ -202,7 +199,6 @@ std::string write_pareto_studies(const ParetoStudyOptions& options, const std::v
     else md << "— | — | — |";
     for (const auto& p : s.methods) md << " " << mm(p) << " |";
     md << " " << std::fixed << std::setprecision(1) << s.seconds << std::defaultfloat << " |\n";
-    std::cerr << "pareto: pair " << k << " done in " << s.seconds << " s\n";
   }
   odometry::io::write_file_atomically(dir + "/pareto.md", [&](std::ostream& out) { out << md.str(); });
   return md.str();

@@ -51,9 +51,10 @@ std::string pareto_json(const ParetoStudy& study);
 // max_pairs, each with a following frame). Throws bivo::Error when neither is given.
 std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int every, int max_pairs);
 
-// Runs the study of every pair (options.pair is overwritten), writes into `dir` (created)
-// pareto_pair<K>.json (+ .png when `plots`) and pareto.md, atomically; returns the Markdown.
-std::string write_pareto_studies(const ParetoStudyOptions& options, const std::vector<int>& pairs,
+// Writes the studies of the pairs (one work unit each, run by run_pareto_study) into `dir`
+// (created): pareto_pair<K>.json (+ .png when `plots`) and pareto.md, atomically; `methods`
+// are the columns of the methods' errors. Returns the Markdown.
+std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const std::vector<std::string>& methods,
                                  const std::string& dir, bool plots);
 
 }  // namespace bivo::experiments

@@ -9,8 +9,9 @@
 #include <iostream>
 #include <sstream>
 
-#include "experiments/pareto_study.h"
 #include "experiments/plotting.h"
+#include "experiments/study_merge.h"
+#include "experiments/study_plan.h"
 #include "experiments/tracker_config.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/tum_dataset.h"
@@ -53,25 +54,16 @@ std::string setup_markdown(const ReportOptions& o, const MethodMatrix& m) {
 
 }  // namespace
 
-ReportResult build_report(const ReportOptions& o, const std::string& dir) {
+ReportResult write_report(const ReportOptions& o, const ReportParts& parts, const std::string& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir + "/images");
   ReportResult result;
   std::ostringstream md;
   md << "# " << o.title << "\n\n" << o.preamble << (o.preamble.empty() ? "" : "\n\n");
 
-  // 1. Methods x sequences. Stages are announced on stderr: the runs can take minutes.
-  std::cerr << "report: running " << o.methods.size() << " method(s) on " << o.sequences.size()
-            << " sequence(s)...\n";
-  MatrixOptions mo;
-  mo.sequences = o.sequences;
-  mo.methods = o.methods;
-  mo.tracker = o.tracker;
-  mo.first_frame = o.first_frame;
-  mo.max_frames = o.max_frames;
-  mo.progress = o.progress;
-  mo.trajectory_dir = dir + "/trajectories";
-  result.matrix = run_matrix(mo);
+  // 1. Methods x sequences.
+  result.matrix = parts.matrix;
+  write_matrix_trajectories(result.matrix, dir + "/trajectories");
   result.tables_markdown = write_matrix(result.matrix, dir + "/tables");
   md << "## Setup\n\n" << setup_markdown(o, result.matrix) << "\n## Accuracy and runtime\n\n"
      << result.tables_markdown << "\n";
@@ -93,30 +85,17 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
 
   // 2. Sweeps.
   if (!o.lambdas.empty() || !o.epsilons.empty()) {
-    SweepOptions so;
-    for (size_t c = 0; c < o.sequences.size(); ++c) {
-      const auto& cell = result.matrix.at(0, int(c));
-      if (cell.run && cell.run->groundtruth) so.sequences.push_back(o.sequences[c]);
-    }
-    so.lambdas = o.lambdas;
-    so.epsilons = o.epsilons;
-    so.tracker = o.tracker;
-    so.first_frame = o.first_frame;
-    so.max_frames = o.sweep_max_frames;
-    so.progress = o.progress;
     md << "## Error vs lambda and epsilon (paper fig. 3)\n\n"
        << "Method `fixed` over a log grid of lambda and method `bounded` with a fixed bound epsilon on F_D "
           "per unit weight, over the first "
        << o.sweep_max_frames
        << " frames of each sequence; ratios are to the single-objective run of the same frames (below 1: "
           "the depth objective helps).\n\n";
-    std::cerr << "report: lambda/epsilon sweeps...\n";
-    if (so.sequences.empty()) {
+    if (!parts.sweep) {
       md << "No sequence with ground truth: no sweep.\n\n";
     } else {
-      const SweepResult sr = run_sweep(so);
-      md << write_sweep(sr, dir + "/sweep") << "\n";
-      if (!sr.points.empty()) {
+      md << write_sweep(*parts.sweep, dir + "/sweep") << "\n";
+      if (!parts.sweep->points.empty()) {
         image("parameter_sweep.py", dir + "/sweep/sweep.csv", "sweep.png",
               "RPE RMSE and max-error ratios to the single-objective run vs lambda (left) and epsilon (right)");
       }
@@ -130,38 +109,27 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
           "translation error of the point's T_21 against ground truth; stars = the pose each method "
           "estimates for the pair; diamond = knee (farthest from the chord in normalized objectives).\n\n";
     fs::create_directories(dir + "/pareto");
-    std::cerr << "report: Pareto fronts...\n";
-    for (size_t c = 0; c < o.sequences.size(); ++c) {
-      const auto& cell = result.matrix.at(0, int(c));
-      if (!cell.run || cell.run->pairs.empty()) continue;
-      ParetoStudyOptions po;
-      po.sequence_dir = o.sequences[c];
-      po.pair = cell.run->pairs[cell.run->pairs.size() / 2].index;
-      po.level = o.pareto_level;
-      po.points = o.pareto_points;
-      po.tracker = o.tracker;
-      po.methods.clear();
-      for (const auto& m : o.methods) po.methods.push_back(m.method);
-      try {
-        const ParetoStudy s = run_pareto_study(po);
-        const std::string json = dir + "/pareto/" + result.matrix.sequences[c] + ".json";
-        odometry::io::write_file_atomically(json, [&](std::ostream& out) { out << pareto_json(s); });
-        md << "### " << result.matrix.sequences[c] << ", pair " << s.pair << "\n\n";
-        md << "| point | F_I | F_D | translation error [mm] |\n|---|---:|---:|---:|\n";
-        auto row = [&](const std::string& name, const StudyPoint& p) {
-          md << "| " << name << " | " << std::setprecision(6) << p.f_i << " | " << p.f_d << " | ";
-          if (p.error) md << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m << std::defaultfloat;
-          else md << "—";
-          md << " |\n";
-        };
-        for (const auto& p : s.methods) row(p.method, p);
-        if (s.knee) row("knee", *s.knee);
-        md << "\n";
-        image("pareto_front.py", json, "pareto_" + result.matrix.sequences[c] + ".png",
-              "Pareto front of " + result.matrix.sequences[c] + " pair " + std::to_string(s.pair));
-      } catch (const Error& e) {
-        md << "Pareto front of " << result.matrix.sequences[c] << " failed: " << e.what() << "\n\n";
+    for (const ReportPareto& rp : parts.pareto) {
+      if (!rp.study) {
+        md << "Pareto front of " << rp.sequence << " failed: " << rp.error << "\n\n";
+        continue;
       }
+      const ParetoStudy& s = *rp.study;
+      const std::string json = dir + "/pareto/" + rp.sequence + ".json";
+      odometry::io::write_file_atomically(json, [&](std::ostream& out) { out << pareto_json(s); });
+      md << "### " << rp.sequence << ", pair " << s.pair << "\n\n";
+      md << "| point | F_I | F_D | translation error [mm] |\n|---|---:|---:|---:|\n";
+      auto row = [&](const std::string& name, const StudyPoint& p) {
+        md << "| " << name << " | " << std::setprecision(6) << p.f_i << " | " << p.f_d << " | ";
+        if (p.error) md << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m << std::defaultfloat;
+        else md << "—";
+        md << " |\n";
+      };
+      for (const auto& p : s.methods) row(p.method, p);
+      if (s.knee) row("knee", *s.knee);
+      md << "\n";
+      image("pareto_front.py", json, "pareto_" + rp.sequence + ".png",
+            "Pareto front of " + rp.sequence + " pair " + std::to_string(s.pair));
     }
   }
 
@@ -174,6 +142,10 @@ ReportResult build_report(const ReportOptions& o, const std::string& dir) {
   result.report_path = dir + "/report.md";
   odometry::io::write_file_atomically(result.report_path, [&](std::ostream& out) { out << md.str(); });
   return result;
+}
+
+ReportResult build_report(const ReportOptions& o, const std::string& dir) {
+  return *run_study(report_study(o, dir), &std::cerr).report;
 }
 
 }  // namespace bivo::experiments

@@ -7,11 +7,13 @@
 // Layout of the output folder:
 //   report.md, tables/ (method_matrix outputs), sweep/ (sweep.csv, ...), pareto/ (JSON),
 //   images/ (PNG), trajectories/ (estimated TUM trajectories).
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "experiments/method_matrix.h"
 #include "experiments/parameter_sweep.h"
+#include "experiments/pareto_study.h"
 
 namespace bivo::experiments {
 
@@ -39,6 +41,27 @@ struct ReportResult {
   std::vector<std::string> images;  // paths of the PNGs written
 };
 
+// The Pareto part of a report: one study per sequence (the middle pair of its window), or
+// why there is none.
+struct ReportPareto {
+  std::string sequence;  // column label (sequence_label)
+  std::optional<ParetoStudy> study;
+  std::string error;
+};
+
+// What the report's work units produced (study.h runs them, in one process or as shards).
+struct ReportParts {
+  MethodMatrix matrix;
+  std::optional<SweepResult> sweep;  // absent: no grid, or no sequence with ground truth
+  std::vector<ReportPareto> pareto;  // empty when options.pareto is false
+};
+
+// Writes the report folder from its parts (tables, sweep, Pareto JSON, plots, report.md,
+// config.json); no tracking is done here.
+ReportResult write_report(const ReportOptions& options, const ReportParts& parts, const std::string& output_dir);
+
+// The whole report in one process: report_study (study_plan.h), every unit (one line per
+// unit on stderr), write_report.
 ReportResult build_report(const ReportOptions& options, const std::string& output_dir);
 
 }  // namespace bivo::experiments
