@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -127,6 +128,14 @@ WorkSummary work_shard(const Study& study, const ShardSpec& shard, const std::st
   fs::create_directories(dir);
   WorkSummary summary;
   summary.units = int(units.size());
+  // Temporaries of a run killed while writing a result file ("<file>.tmp<hex>"): removed
+  // before their unit is redone.
+  std::map<std::string, std::vector<fs::path>> stale;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    const auto at = name.find(".json.tmp");
+    if (at != std::string::npos) stale[name.substr(0, at + 5)].push_back(e.path());
+  }
   int k = 0;
   for (const StudyUnit& unit : units) {
     ++k;
@@ -147,11 +156,7 @@ WorkSummary work_shard(const Study& study, const ShardSpec& shard, const std::st
         continue;
       }
     }
-    // Temporaries of a run killed while writing this unit's file.
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const std::string name = e.path().filename().string();
-      if (name.rfind(unit_file_name(unit) + ".tmp", 0) == 0) fs::remove(e.path());
-    }
+    for (const auto& tmp : stale[unit_file_name(unit)]) fs::remove(tmp);
     const auto t0 = std::chrono::steady_clock::now();
     const json result = run_unit(study, unit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
