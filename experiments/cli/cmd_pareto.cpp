@@ -1,17 +1,17 @@
 // `bivo pareto SEQUENCE_DIR (--pair K | --every K) --output DIR`: Pareto fronts (F_I, F_D) of
 // frame pairs by lambda and epsilon sweeps, with the methods' picks, the knee and pose errors
 // (experiments/pareto_study.h); JSON per pair plus a PNG per pair and a Markdown summary.
-#include <iostream>
+// One work unit per pair (experiments/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
-#include "experiments/tracker_config.h"
 #include "experiments/pareto_study.h"
+#include "experiments/study_plan.h"
 
 namespace bivo::experiments::cli {
 
-void add_pareto_command(CLI::App& app) {
+StudyFactory add_pareto_flags(CLI::App* cmd) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     ParetoStudyOptions o;
@@ -20,7 +20,6 @@ void add_pareto_command(CLI::App& app) {
     bool no_plots = false;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("pareto", "Pareto fronts (F_I, F_D) of frame pairs by lambda and epsilon sweeps");
   cmd->add_option("sequence", a->o.sequence_dir, "TUM sequence folder")->required();
   auto* pair_opt = cmd->add_option("--pair", a->pair, "one pair: reference frame K, current K+1");
   auto* every_opt = cmd->add_option("--every", a->every, "every K-th pair (0, K, 2K, ...)");
@@ -34,13 +33,18 @@ void add_pareto_command(CLI::App& app) {
   cmd->add_option("--methods", a->o.methods, "methods whose picks are marked")->capture_default_str();
   cmd->add_option("--output", a->output, "folder for pareto_pair<K>.json/.png and pareto.md")->required();
   cmd->add_flag("--no-plots", a->no_plots, "write the JSON only (no matplotlib)");
-  cmd->callback([a] {
+  return [a] {
     ParetoStudyOptions o = a->o;
     o.tracker = a->tracker->options();
     const std::vector<int> pairs = pareto_pairs(o.sequence_dir, a->pair, a->every, a->max_pairs);
-    std::cout << write_pareto_studies(o, pairs, a->output, !a->no_plots);
-    write_tracker_config(a->output + "/config.json", o.tracker);
-  });
+    return pareto_pairs_study(o, pairs, a->output, !a->no_plots);
+  };
+}
+
+void add_pareto_command(CLI::App& app) {
+  add_study_command(app, "pareto",
+                    "Pareto fronts (F_I, F_D) of frame pairs by lambda and epsilon sweeps",
+                    add_pareto_flags);
 }
 
 }  // namespace bivo::experiments::cli

@@ -1,15 +1,16 @@
 // `bivo report --sequences DIR... --output DIR`: one Markdown report with tables and plots
-// (experiments/report_builder.h).
-#include <iostream>
+// (experiments/report_builder.h). Its work units are those of its table, its sweep and
+// one Pareto pair per sequence (experiments/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/report_builder.h"
+#include "experiments/study_plan.h"
 
 namespace bivo::experiments::cli {
 
-void add_report_command(CLI::App& app) {
+StudyFactory add_report_flags(CLI::App* cmd) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     ReportOptions o;
@@ -20,7 +21,6 @@ void add_report_command(CLI::App& app) {
     bool no_pareto = false, no_plots = false;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("report", "One Markdown report: tables, per-frame errors, sweeps, Pareto fronts, runtimes");
   cmd->add_option("--sequences", a->o.sequences, "TUM sequence folders")->required();
   cmd->add_option("--methods", a->methods, "methods ('method' or 'method:backend')")->capture_default_str();
   cmd->add_option("--output", a->output, "report folder (report.md, images/, tables/, sweep/, pareto/)")->required();
@@ -37,9 +37,10 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--eps-max", a->eps_max, "largest epsilon")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--pareto-level", a->o.pareto_level, "pyramid level of the Pareto fronts")->capture_default_str();
+  cmd->add_option("--pareto-points", a->o.pareto_points, "points per Pareto sweep")->capture_default_str();
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
-  cmd->callback([a] {
+  return [a] {
     ReportOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);
@@ -47,9 +48,14 @@ void add_report_command(CLI::App& app) {
     o.tracker = a->tracker->options();
     o.pareto = !a->no_pareto;
     o.plots = !a->no_plots;
-    const ReportResult r = build_report(o, a->output);
-    std::cout << r.tables_markdown << "\nreport: " << r.report_path << std::endl;
-  });
+    return report_study(o, a->output);
+  };
+}
+
+void add_report_command(CLI::App& app) {
+  add_study_command(app, "report",
+                    "One Markdown report: tables, per-frame errors, sweeps, Pareto fronts, runtimes",
+                    add_report_flags);
 }
 
 }  // namespace bivo::experiments::cli

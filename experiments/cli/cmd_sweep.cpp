@@ -1,16 +1,16 @@
 // `bivo sweep --sequences DIR... --output DIR`: error vs lambda (log grid, method fixed) and
 // vs epsilon (log grid, method bounded) relative to the single-objective run (paper fig. 3).
-#include <iostream>
+// One work unit per sequence x {reference, grid point} (experiments/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
-#include "experiments/tracker_config.h"
 #include "experiments/parameter_sweep.h"
+#include "experiments/study_plan.h"
 
 namespace bivo::experiments::cli {
 
-void add_sweep_command(CLI::App& app) {
+StudyFactory add_sweep_flags(CLI::App* cmd) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     SweepOptions o;
@@ -19,7 +19,6 @@ void add_sweep_command(CLI::App& app) {
     std::string output;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("sweep", "Error vs lambda and epsilon, as ratios to the single-objective run (paper fig. 3)");
   cmd->add_option("--sequences", a->o.sequences, "TUM sequence folders with groundtruth.txt")->required();
   cmd->add_option("--lambda-min", a->lambda_min, "smallest lambda [gray^2/m^2]")->capture_default_str();
   cmd->add_option("--lambda-max", a->lambda_max, "largest lambda")->capture_default_str();
@@ -32,14 +31,19 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for sweep.csv / sweep.json / sweep.md")->required();
-  cmd->callback([a] {
+  return [a] {
     SweepOptions o = a->o;
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);
     if (a->eps_points > 0) o.epsilons = log_grid(a->eps_min, a->eps_max, a->eps_points);
     o.tracker = a->tracker->options();
-    std::cout << write_sweep(run_sweep(o), a->output);
-    write_tracker_config(a->output + "/config.json", o.tracker);
-  });
+    return sweep_study(o, a->output);
+  };
+}
+
+void add_sweep_command(CLI::App& app) {
+  add_study_command(app, "sweep",
+                    "Error vs lambda and epsilon, as ratios to the single-objective run (paper fig. 3)",
+                    add_sweep_flags);
 }
 
 }  // namespace bivo::experiments::cli

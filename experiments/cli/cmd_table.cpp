@@ -1,18 +1,17 @@
 // `bivo table --sequences DIR... [--methods M...] --output DIR`: methods x sequences ->
 // the paper's tables 1/2 (translational RPE m/s, best per column in bold) and table 3 (ms
-// per pair), as Markdown + CSV + JSON (experiments/method_matrix.h).
-#include <iostream>
+// per pair), as Markdown + CSV + JSON (experiments/method_matrix.h). One work unit per
+// method x sequence (experiments/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
-#include "experiments/tracker_config.h"
 #include "experiments/method_matrix.h"
-#include "odometry/odometry_methods.h"
+#include "experiments/study_plan.h"
 
 namespace bivo::experiments::cli {
 
-void add_table_command(CLI::App& app) {
+StudyFactory add_table_flags(CLI::App* cmd) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     std::vector<std::string> sequences;
@@ -21,7 +20,6 @@ void add_table_command(CLI::App& app) {
     int first_frame = 0, max_frames = -1;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("table", "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)");
   cmd->add_option("--sequences", a->sequences, "TUM sequence folders (columns)")->required();
   cmd->add_option("--methods", a->methods,
                   "methods (rows), each 'method' or 'method:backend'; methods: single, depth, fixed, tykkala, "
@@ -32,18 +30,21 @@ void add_table_command(CLI::App& app) {
   cmd->add_option("--first-frame", a->first_frame, "first associated frame of every sequence")->capture_default_str();
   cmd->add_option("--max-frames", a->max_frames, "frames per sequence (-1: all)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
-  cmd->callback([a] {
+  return [a] {
     MatrixOptions o;
     o.sequences = a->sequences;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.first_frame = a->first_frame;
     o.max_frames = a->max_frames;
     o.tracker = a->tracker->options();
-    o.trajectory_dir = a->output + "/trajectories";
-    const MethodMatrix m = run_matrix(o);
-    std::cout << write_matrix(m, a->output);
-    write_tracker_config(a->output + "/config.json", o.tracker);
-  });
+    return table_study(o, a->output);
+  };
+}
+
+void add_table_command(CLI::App& app) {
+  add_study_command(app, "table",
+                    "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)",
+                    add_table_flags);
 }
 
 }  // namespace bivo::experiments::cli

@@ -21,6 +21,9 @@ int main(int argc, char** argv) {
   ex::add_profile_command(app);
   ex::add_report_command(app);
   ex::add_conic_command(app);
+  ex::add_plan_command(app);
+  ex::add_work_command(app);
+  ex::add_merge_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
