@@ -17,6 +17,11 @@ PACKAGES=(
   libpng-dev
   python3-numpy
   python3-matplotlib
+  # Sharded studies (docs/scaling.md): GNU Parallel, and Slurm + munge for the test that
+  # brings up a single-node cluster on localhost.
+  parallel
+  slurm-wlm
+  munge
 )
 
 missing=()
