@@ -49,7 +49,7 @@ inline Shell shell(const std::string& command, const fs::path& dir) {
   return r;
 }
 
-inline std::string bivo() { return q(BIVO_BINARY); }
+inline std::string bivo_cli() { return q(BIVO_BINARY); }
 
 // Two 6-frame sequences (textured plane and zig-zag panels), no supersampling: seconds.
 inline std::vector<std::string> render_test_sequences(const fs::path& dir) {

@@ -23,7 +23,7 @@ class StudyShards : public ::testing::Test {
     fs::remove_all(root_);
     fs::create_directories(root_);
     sequences_ = render_test_sequences(root_ / "sequences");
-    const Shell r = shell(bivo() + " report " + study_flags(sequences_, root_ / "one"), root_);
+    const Shell r = shell(bivo_cli() + " report " + study_flags(sequences_, root_ / "one"), root_);
     ASSERT_EQ(r.status, 0) << r.err;
     ASSERT_NE(r.out.find("report: "), std::string::npos) << r.out;
   }
@@ -35,7 +35,7 @@ class StudyShards : public ::testing::Test {
   }
   // Plans the test study into dir_/study.json (merged output dir_/merged); returns stdout.
   std::string plan(const std::string& extra = "") {
-    const Shell r = shell(bivo() + " plan report " + study_flags(sequences_, dir_ / "merged") + " --study " +
+    const Shell r = shell(bivo_cli() + " plan report " + study_flags(sequences_, dir_ / "merged") + " --study " +
                               q(dir_ / "study.json") + " " + extra,
                           dir_);
     EXPECT_EQ(r.status, 0) << r.err;
@@ -43,10 +43,10 @@ class StudyShards : public ::testing::Test {
     return r.out;
   }
   Shell work(const std::string& shard) {
-    return shell(bivo() + " work " + q(dir_ / "study.json") + " --shard " + shard, dir_);
+    return shell(bivo_cli() + " work " + q(dir_ / "study.json") + " --shard " + shard, dir_);
   }
   Shell merge(const fs::path& results, const std::string& extra = "") {
-    return shell(bivo() + " merge " + q(dir_ / "study.json") + " " + q(results) + " " + extra, dir_);
+    return shell(bivo_cli() + " merge " + q(dir_ / "study.json") + " " + q(results) + " " + extra, dir_);
   }
   fs::path results() const { return dir_ / "study.results"; }
 
@@ -77,7 +77,7 @@ TEST_F(StudyShards, ShardsAreDisjointAndCoverEveryUnit) {
   std::set<std::string> seen;
   for (int i = 0; i < 3; ++i) {
     const fs::path before = dir_ / ("shard" + std::to_string(i));
-    ASSERT_EQ(shell(bivo() + " work " + q(dir_ / "study.json") + " --shard " + std::to_string(i) + "/3 --results " +
+    ASSERT_EQ(shell(bivo_cli() + " work " + q(dir_ / "study.json") + " --shard " + std::to_string(i) + "/3 --results " +
                         q(before), dir_).status, 0);
     for (const auto& e : fs::directory_iterator(before)) {
       EXPECT_TRUE(seen.insert(e.path().filename().string()).second) << "unit in two shards: " << e.path();
@@ -177,7 +177,7 @@ TEST_F(StudyShards, TruncatedForeignAndDuplicatedResultsAreRefused) {
   // ... and `bivo work` will not overwrite it.
   fs::copy_file(stranger, foreign / files[0].filename(), fs::copy_options::overwrite_existing);
   fs::remove_all(foreign / "other");
-  r = shell(bivo() + " work " + q(dir_ / "study.json") + " --results " + q(foreign), dir_);
+  r = shell(bivo_cli() + " work " + q(dir_ / "study.json") + " --results " + q(foreign), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("another study"), std::string::npos) << r.err;
 

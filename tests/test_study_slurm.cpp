@@ -54,10 +54,10 @@ TEST(StudySlurm, JobArrayAndDependentMergeGiveTheTablesOfOneProcess) {
   ASSERT_EQ(slurm.status(), 0) << slurm.message();
 
   const std::vector<std::string> sequences = render_test_sequences(root / "sequences");
-  const Shell one = shell(bivo() + " report " + study_flags(sequences, root / "one"), root);
+  const Shell one = shell(bivo_cli() + " report " + study_flags(sequences, root / "one"), root);
   ASSERT_EQ(one.status, 0) << one.err;
 
-  const Shell plan = shell(bivo() + " plan report " + study_flags(sequences, root / "merged") + " --study " +
+  const Shell plan = shell(bivo_cli() + " plan report " + study_flags(sequences, root / "merged") + " --study " +
                                q(root / "study.json") + " --slurm --shards 3 --throttle 2 --job-name bivotest",
                            root);
   ASSERT_EQ(plan.status, 0) << plan.err;
