@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "odometry/synth/sequence.h"
 
 namespace bivo::testing {
 
@@ -51,17 +50,18 @@ inline Shell shell(const std::string& command, const fs::path& dir) {
 
 inline std::string bivo_cli() { return q(BIVO_BINARY); }
 
-// Two 6-frame sequences (textured plane and zig-zag panels), no supersampling: seconds.
+// Two 5-frame sequences (textured plane, and zig-zag panels on a floor) rendered by
+// `bivo synth`: 2 frames per second, so that 5 frames hold two 1-s RPE windows, and slow
+// hand-held motion, so that the pairs stay trackable at the coarse level the study uses.
 inline std::vector<std::string> render_test_sequences(const fs::path& dir) {
   std::vector<std::string> out;
   for (const char* category : {"structure_texture_near", "nostructure_texture_near"}) {
-    odometry::synth::SynthOptions o;
-    o.category = odometry::synth::parse_category(category);
-    o.frames = 6;
-    o.seed = 5;
-    o.threads = 1;
-    o.render.supersampling = 1;
-    out.push_back(odometry::synth::render_sequence(o, dir.string()));
+    const Shell r = shell(bivo_cli() + " synth --category " + category +
+                              " --frames 5 --fps 2 --seed 5 --speed 0.03 --angular-speed 2 --supersampling 1"
+                              " --threads 1 --output " + q(dir),
+                          dir.parent_path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    out.push_back((dir / (std::string("rgbd_dataset_freiburg3_synth_") + category)).string());
   }
   return out;
 }
@@ -71,7 +71,7 @@ inline std::string study_flags(const std::vector<std::string>& sequences, const 
   std::string s = "--sequences";
   for (const auto& seq : sequences) s += " " + q(seq);
   return s + " --methods single weighted --lambda-points 3 --lambda-min 100 --lambda-max 1e5 --eps-points 0"
-             " --max-frames 6 --sweep-frames 5 --levels 3 --finest-level 2 --pareto-level 2 --pareto-points 4"
+             " --max-frames 5 --sweep-frames 5 --levels 4 --finest-level 3 --pareto-level 3 --pareto-points 4"
              " --no-plots --output " + q(output);
 }
 constexpr int kStudyUnits = 4 + 2 * 4 + 2;
