@@ -232,7 +232,7 @@ TEST(StudyPlan, SlurmScriptIsAJobArrayWithADependentMerge) {
   EXPECT_NE(submit.find("--dependency=afterok:${array}"), std::string::npos) << submit;
   EXPECT_NE(submit.find(" merge "), std::string::npos) << submit;
   // A command with --threads: its value is the CPUs of a task unless --cpus-per-task is given.
-  if (shell(bivo_cli() + " plan table --help", root).out.find("--threads") != std::string::npos) {
+  if (shell(bivo_cli() + " plan table --help", root).out.find("  --threads ") != std::string::npos) {
     plan = shell(bivo_cli() + " plan table" + flags + " --threads 2 --study " + q(root / "t.json"), root);
     ASSERT_EQ(plan.status, 0) << plan.err;
     EXPECT_NE(slurp(root / "t.sbatch").find("#SBATCH --cpus-per-task=2\n"), std::string::npos)

@@ -42,7 +42,7 @@ void add_plan_flags(CLI::App* cmd, PlanArgs& p) {
   cmd->add_flag("--slurm", p.slurm, "also write STUDY.sbatch (job array, one shard per task) and STUDY.submit.sh");
   cmd->add_option("--throttle", p.launch.throttle, "slurm: at most this many array tasks at once (%K)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--cpus-per-task", p.launch.threads, "slurm: CPUs of one shard")->capture_default_str()
+  cmd->add_option("--cpus-per-task", p.launch.threads, "slurm: CPUs of one shard (default: --threads if given, else 1)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--partition", p.launch.partition, "slurm: partition of the jobs");
   cmd->add_option("--time", p.launch.time_limit, "slurm: time limit of one shard, e.g. 2:00:00");
@@ -115,7 +115,16 @@ void add_plan_command(CLI::App& app) {
     const StudyFactory make = add_flags(sub);
     auto p = std::make_shared<PlanArgs>();
     add_plan_flags(sub, *p);
-    sub->callback([make, p] { plan(make(), *p); });
+    sub->callback([sub, make, p] {
+      PlanArgs args = *p;
+      // The command's own --threads (where it has one) is what a shard uses: ask Slurm for
+      // as many CPUs per task, unless --cpus-per-task says otherwise.
+      const CLI::Option* threads = sub->get_option_no_throw("--threads");
+      if (threads && threads->count() > 0 && sub->get_option("--cpus-per-task")->count() == 0) {
+        args.launch.threads = std::max(1, threads->as<int>());
+      }
+      plan(make(), args);
+    });
   }
 }
 
