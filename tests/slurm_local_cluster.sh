@@ -32,20 +32,23 @@ skip() {
   exit 77
 }
 
+# TERM to all three at once (each takes ~2 s to shut down), then KILL what is left after 5 s.
 stop_daemons() {
+  local pids=()
   for name in slurmd slurmctld munged; do
     local pidfile="$dir/$name.pid"
     if [ -s "$pidfile" ]; then
-      local pid
-      pid=$(cat "$pidfile")
-      kill "$pid" 2>/dev/null
-      for _ in $(seq 1 50); do
-        kill -0 "$pid" 2>/dev/null || break
-        sleep 0.1
-      done
-      kill -9 "$pid" 2>/dev/null
+      pids+=("$(cat "$pidfile")")
+      kill "${pids[-1]}" 2>/dev/null
       rm -f "$pidfile"
     fi
+  done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 1 50); do
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.1
+    done
+    kill -9 "$pid" 2>/dev/null
   done
 }
 
@@ -99,6 +102,8 @@ SwitchType=switch/none
 SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 SchedulerType=sched/builtin
+# Pending jobs (the merge, once its dependency is met) are looked at every second, not 60.
+SchedulerParameters=sched_interval=1
 JobCompType=jobcomp/none
 AccountingStorageType=accounting_storage/none
 JobAcctGatherType=jobacct_gather/none
