@@ -8,6 +8,7 @@
 #include <numeric>
 #include <set>
 
+#include "experiments/json_object_reader.h"
 #include "experiments/tracker_config.h"
 #include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
@@ -19,78 +20,8 @@ using json = nlohmann::json;
 
 constexpr int kFormatVersion = 1;
 
-// Strict reading of one JSON object: typed getters that name the key path in errors, and
-// done() rejects keys nobody asked for (a typo in a hand-edited study).
-class Reader {
- public:
-  Reader(const json& j, std::string where) : j_(j), where_(std::move(where)) {
-    if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + j_.type_name());
-  }
-  std::string path(const char* key) const { return where_ + "." + key; }
-  const json* find(const char* key) {
-    known_.insert(key);
-    const auto it = j_.find(key);
-    return it == j_.end() ? nullptr : &*it;
-  }
-  const json& need(const char* key) {
-    const json* v = find(key);
-    if (!v) throw Error(where_ + ": missing key '" + key + "'");
-    return *v;
-  }
-  std::string string(const char* key) {
-    const json& v = need(key);
-    if (!v.is_string()) throw Error(path(key) + ": must be a string, got " + v.type_name());
-    return v.get<std::string>();
-  }
-  int integer(const char* key, int lo) {
-    const json& v = need(key);
-    if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > INT32_MAX) {
-      throw Error(path(key) + ": must be an integer >= " + std::to_string(lo) + ", got " + v.dump());
-    }
-    return v.get<int>();
-  }
-  double number(const char* key) {
-    const json& v = need(key);
-    if (!v.is_number()) throw Error(path(key) + ": must be a number, got " + v.dump());
-    return v.get<double>();
-  }
-  bool boolean(const char* key) {
-    const json& v = need(key);
-    if (!v.is_boolean()) throw Error(path(key) + ": must be true or false, got " + v.dump());
-    return v.get<bool>();
-  }
-  std::vector<std::string> strings(const char* key) {
-    std::vector<std::string> out;
-    for (const json& v : array(key)) {
-      if (!v.is_string()) throw Error(path(key) + ": every entry must be a string, got " + v.dump());
-      out.push_back(v.get<std::string>());
-    }
-    return out;
-  }
-  std::vector<double> numbers(const char* key) {
-    std::vector<double> out;
-    for (const json& v : array(key)) {
-      if (!v.is_number()) throw Error(path(key) + ": every entry must be a number, got " + v.dump());
-      out.push_back(v.get<double>());
-    }
-    return out;
-  }
-  const json& array(const char* key) {
-    const json& v = need(key);
-    if (!v.is_array()) throw Error(path(key) + ": must be an array, got " + v.type_name());
-    return v;
-  }
-  void done() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it) {
-      if (!known_.count(it.key())) throw Error(where_ + ": unknown key '" + it.key() + "'");
-    }
-  }
-
- private:
-  const json& j_;
-  std::string where_;
-  std::set<std::string> known_;
-};
+// Every key of a study file is required (json_object_reader.h).
+using Reader = JsonObjectReader;
 
 json methods_json(const std::vector<MethodSpec>& methods) {
   json j = json::array();
@@ -209,7 +140,7 @@ Study study_from_json(const json& j, const std::string& where) {
     for (const auto& m : tr.strings("methods")) o.methods.push_back(parse_method_spec(m));
     o.first_frame = tr.integer("first_frame", 0);
     o.max_frames = tr.integer("max_frames", -1);
-    tr.done();
+    tr.reject_unknown();
     s.table = o;
   }
   if (const json* t = r.find("sweep")) {
@@ -221,7 +152,7 @@ Study study_from_json(const json& j, const std::string& where) {
     o.epsilon_backend = sr.string("epsilon_backend");
     o.first_frame = sr.integer("first_frame", 0);
     o.max_frames = sr.integer("max_frames", -1);
-    sr.done();
+    sr.reject_unknown();
     s.sweep = o;
   }
   if (const json* t = r.find("pareto")) {
@@ -236,17 +167,17 @@ Study study_from_json(const json& j, const std::string& where) {
     for (const json& e : pr.array("pairs")) {
       Reader er(e, pr.path("pairs") + "[" + std::to_string(k++) + "]");
       p.pairs.push_back({er.string("sequence"), er.integer("pair", 0)});
-      er.done();
+      er.reject_unknown();
     }
-    pr.done();
+    pr.reject_unknown();
     s.pareto = p;
   }
   if (const json* t = r.find("report")) {
     Reader rr(*t, r.path("report"));
     s.report = ReportText{rr.string("title"), rr.string("preamble")};
-    rr.done();
+    rr.reject_unknown();
   }
-  r.done();
+  r.reject_unknown();
   try {
     check_study(s);
   } catch (const Error& e) {
@@ -274,7 +205,11 @@ void write_study(const std::string& path, const Study& study) {
 }
 
 std::string study_hash(const Study& study) {
-  const std::string text = parts_json(study).dump();  // keys sorted: canonical
+  json parts = parts_json(study);
+  // Threads of the per-pixel passes change no result (where the tracker has them): shards
+  // may run with other thread counts than planned and still merge.
+  if (parts["tracker"].contains("problem")) parts["tracker"]["problem"].erase("threads");
+  const std::string text = parts.dump();  // keys sorted: canonical
   std::uint64_t h = 14695981039346656037ull;          // FNV-1a 64
   for (unsigned char c : text) {
     h ^= c;

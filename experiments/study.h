@@ -79,7 +79,8 @@ Study read_study(const std::string& path);
 void write_study(const std::string& path, const Study& study);  // atomic, pretty-printed
 
 // 16 hex digits (64-bit FNV-1a) of the canonical JSON of what the units compute: kind,
-// tracker and parts — not output, plots, seed or the report's text, which change no result.
+// tracker and parts — not output, plots, seed, the report's text or the tracker's thread
+// count, which change no result.
 // An identity check against mixing results of different studies, not a security measure.
 std::string study_hash(const Study& study);
 

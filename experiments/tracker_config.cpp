@@ -7,6 +7,7 @@
 #include <limits>
 #include <set>
 
+#include "experiments/json_object_reader.h"
 #include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
@@ -17,88 +18,8 @@ namespace {
 using json = nlohmann::json;
 using odometry::TrackerOptions;
 
-std::string bound(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-// Reads the keys of one JSON object into fields, remembering which keys were used so that
-// an unknown key (a typo) is an error instead of being ignored.
-class ObjectReader {
- public:
-  ObjectReader(const json& j, std::string where) : j_(j), where_(std::move(where)) {
-    if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + j_.type_name());
-  }
-
-  std::string path(const char* key) const { return where_ + "." + key; }
-  const json* find(const char* key) {
-    known_.insert(key);
-    const auto it = j_.find(key);
-    return it == j_.end() ? nullptr : &*it;
-  }
-
-  void number(const char* key, double& out, double lo, double hi) {
-    const json* v = find(key);
-    if (!v) return;
-    if (!v->is_number()) throw Error(path(key) + ": must be a number, got " + v->type_name());
-    const double d = v->get<double>();
-    if (!std::isfinite(d) || d < lo || d > hi) {
-      throw Error(path(key) + ": " + v->dump() + " is outside [" + bound(lo) + ", " + bound(hi) + "]");
-    }
-    out = d;
-  }
-  void integer(const char* key, int& out, int lo, int hi) {
-    const json* v = find(key);
-    if (!v) return;
-    if (!v->is_number_integer()) throw Error(path(key) + ": must be an integer, got " + v->dump());
-    const auto i = v->get<std::int64_t>();
-    if (i < lo || i > hi) {
-      throw Error(path(key) + ": " + v->dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    }
-    out = static_cast<int>(i);
-  }
-  void boolean(const char* key, bool& out) {
-    const json* v = find(key);
-    if (!v) return;
-    if (!v->is_boolean()) throw Error(path(key) + ": must be true or false, got " + v->dump());
-    out = v->get<bool>();
-  }
-  void string(const char* key, std::string& out) {
-    const json* v = find(key);
-    if (!v) return;
-    if (!v->is_string()) throw Error(path(key) + ": must be a string, got " + v->type_name());
-    out = v->get<std::string>();
-  }
-  // An enum by name, parsed by the layer's own parse function (its error lists valid names).
-  template <class Enum, class Parse>
-  void name(const char* key, Enum& out, Parse parse) {
-    if (!find(key)) return;
-    std::string s;
-    string(key, s);
-    try {
-      out = parse(s);
-    } catch (const Error& e) {
-      throw Error(path(key) + ": " + e.what());
-    }
-  }
-
-  void reject_unknown() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it) {
-      if (!known_.count(it.key())) {
-        std::string valid;
-        for (const auto& k : known_) valid += (valid.empty() ? "" : ", ") + k;
-        throw Error(where_ + ": unknown key '" + it.key() + "' (valid: " + valid + ")");
-      }
-    }
-  }
-
- private:
-  const json& j_;
-  std::string where_;
-  std::set<std::string> known_;
-};
+// The strict reader shared with the study files (json_object_reader.h).
+using ObjectReader = JsonObjectReader;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kIntMax = std::numeric_limits<int>::max();
