@@ -177,7 +177,9 @@ TEST(StudyShards, OneProcessShardsAndGnuParallelGiveTheSameTables) {
   for (int i = 0; i < 3; ++i) {
     const Shell r = work(seq, std::to_string(i) + "/3", results / ("shard" + std::to_string(i)));
     ASSERT_EQ(r.status, 0) << r.err;
-    if (i == 0) EXPECT_NE(r.err.find(std::to_string(survived) + " already done"), std::string::npos) << r.err;
+    if (i == 0) {
+      EXPECT_NE(r.err.find(std::to_string(survived) + " already done"), std::string::npos) << r.err;
+    }
   }
   // Disjoint and complete: every unit once over the three folders.
   std::set<std::string> seen;
