@@ -28,6 +28,9 @@ namespace data = bivo::odometry;
 #endif
 #if __has_include("odometry/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
+#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads)
+#else
+#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels)
 #endif
 
 namespace {
@@ -100,11 +103,11 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
   int pairs = 0;
   for (auto _ : state) {
     for (const auto& window : f->windows) {
-      PreparedFrame reference = prepare_frame(window[0], f->sequence.intrinsics, o.levels);
+      PreparedFrame reference = BIVO_PREPARE(window[0], f->sequence.intrinsics, o);
       Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
       for (std::size_t k = 1; k < window.size(); ++k) {
         const double c0 = cpu_now(), w0 = wall_now();
-        PreparedFrame current = prepare_frame(window[k], f->sequence.intrinsics, o.levels);
+        PreparedFrame current = BIVO_PREPARE(window[k], f->sequence.intrinsics, o);
         const PairResult r = estimate_motion(reference, current, velocity, o);
         const double seconds = wall ? wall_now() - w0 : cpu_now() - c0;
         per_pair.push_back(1000.0 * seconds);

@@ -3,6 +3,7 @@
 // tests check), the other instruction set, other thread counts (bit-identical results), and
 // first-order image motion computed point by point. A procedural scene (a slanted textured
 // plane seen from two poses, with holes in the depth) needs no data files.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -121,7 +122,8 @@ TEST(RgbdKernels, ScalarAndAvx2KernelsAgree) {
   const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
   const auto fs = scalar.evaluate(x2), fv = avx2.evaluate(x2);
   EXPECT_LT(std::abs(fs[0] - fv[0]), 1e-5 * fs[0]);
-  EXPECT_LT(std::abs(fs[1] - fv[1]), 1e-5 * fs[1]);
+  // At the truth F_D is ~1e-14 (an exact plane): below that, float rounding (FMA or not) rules.
+  EXPECT_LT(std::abs(fs[1] - fv[1]), std::max(1e-5 * fs[1], 1e-8));
 }
 
 TEST(RgbdKernels, ResultsAreBitIdenticalForEveryThreadCount) {
@@ -192,10 +194,12 @@ TEST(RgbdKernels, OneObjectiveProblemsBuildOnlyF1AndReportTheOtherOnRequest) {
     EXPECT_EQ(ls.f2.a, 0.0);
     EXPECT_EQ(ls.f2.H.norm(), 0.0);
     EXPECT_EQ(single.evaluate(x)[1], 0.0);
-    // Both objectives with weights estimated at x: those of the two-objective problem.
+    // Both objectives with weights estimated at x: those of the two-objective problem (up to
+    // the scale's fixed point, which single starts from its own estimate and stops within
+    // scale_tolerance = 1e-4 of sigma^2).
     const auto both = single.objectives_at(x);
-    EXPECT_EQ(both[0], full.last_stats().f_intensity);
-    EXPECT_EQ(both[1], full.last_stats().f_depth);
+    EXPECT_NEAR(both[0], full.last_stats().f_intensity, 1e-4 * full.last_stats().f_intensity);
+    EXPECT_NEAR(both[1], full.last_stats().f_depth, 1e-4 * full.last_stats().f_depth);
   }
 }
 
