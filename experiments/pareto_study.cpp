@@ -90,6 +90,12 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
   po.solver.max_iterations = base.max_iterations;
   po.solver.step_tolerance = base.step_tolerance;
   po.solver.relative_decrease_tolerance = base.relative_decrease_tolerance;
+  if (base.pixel_motion_tolerance > 0.0) {
+    // Warm-started neighbours often differ by less than anyone can see: stop there.
+    odometry::RgbdOdometryProblem* p = problem.get();
+    po.solver.step_measure = [p](const Eigen::VectorXd& x, const Eigen::VectorXd& d) { return p->pixel_motion(x, d); };
+    po.solver.step_measure_tolerance = base.pixel_motion_tolerance;
+  }
   const solvers::ParetoFront lf = solvers::sweep_lambda(*problem, x0, po);
   const solvers::ParetoFront ef = solvers::sweep_epsilon(*problem, x0, po);
   study.lambda_front = front_points(lf, *problem, pair.groundtruth_T21);

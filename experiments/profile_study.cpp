@@ -14,7 +14,7 @@
 namespace bivo::experiments {
 namespace {
 
-const std::vector<std::string> kPhases = {"pyramid",   "residuals",  "weights", "normal_equations",
+const std::vector<std::string> kPhases = {"pyramid", "reference", "residuals", "weights", "normal_equations",
                                           "cone_data", "subproblem", "other"};
 
 }  // namespace
@@ -38,6 +38,7 @@ std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
     req.tracker = o.tracker;
     req.tracker.method = m.method;
     req.tracker.backend = m.backend;
+    req.tracker.evaluate_unused_objective = true;  // single's F_D is the reference of the F_D ratio
     req.first_frame = o.first_frame;
     req.max_frames = o.max_frames;
     req.progress = o.progress;

@@ -1,6 +1,6 @@
 #pragma once
 // Where the time of a frame pair goes, per method and backend (`bivo profile`): ms per pair
-// in each phase the layers record (solvers/profiling.h: pyramid, residuals (+ Jacobians),
+// in each phase the layers record (solvers/profiling.h: pyramid, reference, residuals,
 // weights, normal_equations, cone_data, subproblem, other), mean outer iterations per
 // pyramid level, and per level the gap between the epsilon-constraint (QCQP / SOCP) solution
 // and the Gauss-Newton single-objective solution of the same pairs:

@@ -1,6 +1,7 @@
 #include "experiments/sequence_runner.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -52,33 +53,42 @@ RunOutcome run_sequence(const RunRequest& request,
   out.failures = track.invalid_pairs;
   out.load_seconds = track.load_seconds;
 
-  std::vector<double> ms;
-  for (const auto& p : out.pairs) ms.push_back(1000.0 * p.seconds);
-  double sum = 0;
-  for (double v : ms) sum += v;
-  out.mean_ms = sum / double(ms.size());
-  std::sort(ms.begin(), ms.end());
-  const size_t n = ms.size();
-  out.median_ms = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  const auto median_and_mean = [&](double odometry::PairResult::*field, double& median, double& mean) {
+    std::vector<double> ms;
+    for (const auto& p : out.pairs) ms.push_back(1000.0 * (p.*field));
+    double sum = 0;
+    for (double v : ms) sum += v;
+    mean = sum / double(ms.size());
+    std::sort(ms.begin(), ms.end());
+    const size_t n = ms.size();
+    median = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  };
+  median_and_mean(&odometry::PairResult::seconds, out.median_ms, out.mean_ms);
+  median_and_mean(&odometry::PairResult::cpu_seconds, out.median_cpu_ms, out.mean_cpu_ms);
   return out;
 }
 
 std::string run_summary_line(const RunOutcome& run) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3) << "frames=" << run.trajectory.size() << " median_ms=" << run.median_ms
-    << " mean_ms=" << run.mean_ms << " failures=" << run.failures;
+    << " mean_ms=" << run.mean_ms << " median_cpu_ms=" << run.median_cpu_ms << " mean_cpu_ms=" << run.mean_cpu_ms
+    << " failures=" << run.failures;
   return s.str();
 }
 
 void write_pair_log(const std::string& path, const RunOutcome& run) {
   odometry::io::write_file_atomically(path, [&](std::ostream& o) {
-    o << "pair,t_reference,t_current,valid,iterations,ms,load_ms,lambda,epsilon,mu,epsilon_per_weight,f_i,f_d,"
-         "trans_err_m,rot_err_deg,note\n";
+    o << "pair,t_reference,t_current,valid,iterations,ms,cpu_ms,load_ms,lambda,epsilon,mu,epsilon_per_weight,f_i,"
+         "f_d,trans_err_m,rot_err_deg,note\n";
     for (const auto& p : run.pairs) {
       o << std::setprecision(17) << p.index << "," << p.t_reference << "," << p.t_current << ","
         << (p.valid ? 1 : 0) << "," << p.iterations << std::setprecision(8) << "," << 1000.0 * p.seconds << ","
-        << 1000.0 * p.load_seconds << "," << p.lambda << "," << p.epsilon << "," << p.mu << ","
-        << p.epsilon_per_weight << "," << p.f_i << "," << p.f_d << ",";
+        << 1000.0 * p.cpu_seconds << "," << 1000.0 * p.load_seconds << "," << p.lambda << "," << p.epsilon << ","
+        << p.mu << "," << p.epsilon_per_weight << ",";
+      if (std::isfinite(p.f_i)) o << p.f_i;
+      o << ",";
+      if (std::isfinite(p.f_d)) o << p.f_d;
+      o << ",";
       if (p.error) o << p.error->translation_m << "," << p.error->rotation_deg;
       else o << ",";
       o << "," << csv_field(p.note) << "\n";

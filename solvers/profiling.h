@@ -1,9 +1,11 @@
 #pragma once
 // Phase timers: every layer records wall time per named phase into one PhaseProfile, so
 // `bivo profile` can split a frame pair's time without timing code sprinkled around.
-// Phase names used across the project:
-//   "pyramid", "residuals" (residuals + Jacobians), "weights", "normal_equations",
-//   "cone_data", "subproblem", "other".
+// Phase names used across the project (odometry: docs/odometry.md "Speed"):
+//   "pyramid" (pyramid + statistics of a frame), "reference" (a level's pose-independent
+//   data), "residuals" (the warp: residuals, image gradients, validity, F under the stored
+//   weights), "weights" (robust scales), "normal_equations" (weights applied, Jacobians, H, b, a
+//   in one pass), "cone_data", "subproblem", "other".
 #include <chrono>
 #include <map>
 #include <string>
