@@ -1,0 +1,30 @@
+#include "solvers/conic/dense_kernels.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define BIVO_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define BIVO_CLONES
+#endif
+
+namespace bivo::solvers::conic::kernels {
+
+BIVO_CLONES void axpy(long n, double a, const double* x, double* y) {
+  for (long i = 0; i < n; ++i) y[i] += a * x[i];
+}
+
+BIVO_CLONES void scaled_copy(long n, double a, const double* x, double* y) {
+  for (long i = 0; i < n; ++i) y[i] = a * x[i];
+}
+
+BIVO_CLONES double dot(long n, const double* x, const double* y) {
+  double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  long i = 0;
+  for (; i + 8 <= n; i += 8) {
+    for (int k = 0; k < 8; ++k) s[k] += x[i + k] * y[i + k];
+  }
+  double tail = 0.0;
+  for (; i < n; ++i) tail += x[i] * y[i];
+  return ((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7])) + tail;
+}
+
+}  // namespace bivo::solvers::conic::kernels
