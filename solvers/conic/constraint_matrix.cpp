@@ -65,12 +65,12 @@ void ConstraintMatrix::build(const SparseMatrix& G, const Eigen::VectorXd* row_s
     Gd_.setZero(rows_, cols_);
     const int* inner = G.innerIndexPtr();
     const double* val = G.valuePtr();
-    const double* rs = row_scale ? row_scale->data() : nullptr;
-    for (int j = 0; j < G.outerSize(); ++j) {
+    for (int j = 0; j < cols_; ++j) {
       double* col = Gd_.col(j).data();
       const int begin = G.outerIndexPtr()[j];
       const int end = G.isCompressed() ? G.outerIndexPtr()[j + 1] : begin + G.innerNonZeroPtr()[j];
-      if (rs) {
+      if (row_scale) {
+        const double* rs = row_scale->data();
         const double cs = (*col_scale)[j];
         for (int e = begin; e < end; ++e) col[inner[e]] += val[e] * rs[inner[e]] * cs;
       } else {

@@ -102,11 +102,39 @@ class Solver {
         try_polish(v_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate)) {
       IpmResult res = finish(IpmStatus::kOptimal, polished_, iterations);
       res.reduced_accuracy = classify(r_, st_.feastol, st_.abstol, st_.reltol) != IpmStatus::kOptimal;
+      if (res.reduced_accuracy) explain_reduced_accuracy(polished_, res);
       return res;
     }
     IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
     res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
+    if (res.reduced_accuracy) explain_reduced_accuracy(v_, res);
     return res;
+  }
+  // Which strict tolerance the accepted point misses, and whether double precision could
+  // have met it at all (residual_floors).
+  void explain_reduced_accuracy(const Variables& v, IpmResult& res) {
+    const ResidualFloors f = residual_floors(sp_, *gmat_, op_, eq_, v);
+    res.primal_residual_floor = f.primal;
+    res.dual_residual_floor = f.dual;
+    char buf[200];
+    std::string why;
+    auto add = [&](const char* what, double value, double tol, double floor) {
+      if (!(value > tol)) return;
+      std::snprintf(buf, sizeof buf, "%s%s %.1e > %.1e", why.empty() ? "" : ", ", what, value, tol);
+      why += buf;
+      if (floor > 0.0 && tol < floor) {
+        std::snprintf(buf, sizeof buf, " (below its rounding floor %.1e)", floor);
+        why += buf;
+      }
+    };
+    add("primal residual", res.primal_residual, st_.feastol, f.primal);
+    add("dual residual", res.dual_residual, st_.feastol, f.dual);
+    if (!(res.gap < st_.abstol || res.relative_gap < st_.reltol)) {
+      std::snprintf(buf, sizeof buf, "%sgap %.1e (relative %.1e) above abstol %.1e / reltol %.1e", why.empty() ? "" : ", ",
+                    res.gap, res.relative_gap, st_.abstol, st_.reltol);
+      why += buf;
+    }
+    res.note = why;
   }
   IpmResult trouble(const char* where, int iterations) {
     return stop_early(IpmStatus::kNumericalTrouble, where, last_good_, iterations);
@@ -376,6 +404,12 @@ IpmResult Solver::run() {
 }
 
 }  // namespace
+
+std::string status_text(const IpmResult& r) {
+  std::string s = to_string(r.status);
+  if (r.reduced_accuracy) s += " (reduced accuracy" + (r.note.empty() ? std::string() : ": " + r.note) + ")";
+  return s;
+}
 
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
   IpmTimings timings;

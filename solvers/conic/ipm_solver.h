@@ -57,7 +57,11 @@ struct IpmResult {
   Eigen::VectorXd x, y, z, s;
   double primal_objective = 0.0, dual_objective = 0.0;
   double primal_residual = 0.0, dual_residual = 0.0, gap = 0.0, relative_gap = 0.0;
-  bool reduced_accuracy = false;  // met only the *_inaccurate tolerances
+  bool reduced_accuracy = false;  // met only the *_inaccurate tolerances; `note` says which
+                                  // strict tolerance failed and whether it is below what
+                                  // double precision can resolve (its rounding floor)
+  double primal_residual_floor = 0.0, dual_residual_floor = 0.0;  // set with reduced_accuracy
+  std::string note;
   bool polished = false;          // the solution is the polished point (polish.h) ...
   int polish_newton_steps = 0;    // ... after this many Newton steps
   int iterations = 0;
@@ -68,5 +72,8 @@ struct IpmResult {
 
 // Validates the problem (bivo::Error on bad input), then solves it.
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings = {});
+
+// The exit in words: "optimal", "optimal (reduced accuracy: ...)", "primal infeasible", ...
+std::string status_text(const IpmResult& result);
 
 }  // namespace bivo::solvers::conic

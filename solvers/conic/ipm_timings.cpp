@@ -24,6 +24,13 @@ const char* to_string(IpmPhase phase) {
   return "unknown";
 }
 
+void record_phases(const IpmTimings& t, PhaseProfile* profile) {
+  if (!profile) return;
+  for (int p = 0; p < static_cast<int>(IpmPhase::kCount); ++p) {
+    if (t.seconds[p] > 0.0) profile->add(std::string("subproblem/ipm_") + to_string(static_cast<IpmPhase>(p)), t.seconds[p]);
+  }
+}
+
 double IpmTimings::setup_seconds() const {
   double s = 0.0;
   for (int p = static_cast<int>(IpmPhase::kValidation); p <= static_cast<int>(IpmPhase::kSymbolic); ++p) s += seconds[p];

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <string>
 
+#include "solvers/profiling.h"
+
 namespace bivo::solvers::conic {
 
 enum class IpmPhase : int {
@@ -45,6 +47,10 @@ struct IpmTimings {
   // One line per phase: "name  ms  share", plus the counters.
   std::string text(int iterations) const;
 };
+
+// Adds the phases to `profile` (null: no-op) as "subproblem/ipm_<phase>": parts of the outer
+// loop's "subproblem" phase, for `bivo profile`.
+void record_phases(const IpmTimings& timings, PhaseProfile* profile);
 
 // The clock: enter(phase) charges the time since the last switch to the current phase.
 class IpmClock {

@@ -250,7 +250,7 @@ bool KktSystem::factor(const NtScaling& w) {
   if (G_.dense()) {
     for (int k = 0; k < nsoc_; ++k) {
       const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-      if (d < 2) continue;
+      if (d < 2 || !has_direction(w.soc[k], d)) continue;  // q-hat = 0 (e.g. W = I): G^T q-hat = 0
       gq_full_.setZero(n_);
       G_.add_rows_multiply_transpose(o + 1, d - 1, 1.0, qhat_.segment(o + 1, d - 1), gq_full_);
       for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) gq_[c] = gq_full_[couple_col_[c]];
@@ -344,7 +344,8 @@ bool KktSystem::numeric_with_dynamic_regularization() {
 void KktSystem::reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red) {
   const int pk0 = n_ + p_;
   red.resize(R_);
-  if (m_ > 0) {
+  // A zero z part (the initial dual start's right-hand side) needs no pass over G.
+  if (m_ > 0 && !r.tail(m_).isZero(0.0)) {
     tz_ = r.tail(m_).cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
     G_.multiply_transpose(tz_, red.head(n_));
     red.head(n_) += r.head(n_);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/conic/dense_kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::solvers::conic {
@@ -12,6 +13,7 @@ namespace bivo::solvers::conic {
 namespace {
 
 void check_finite(const Eigen::VectorXd& v, const char* what) {
+  if (kernels::all_finite(v.size(), v.data())) return;  // the common case, vectorized
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i])) {
       throw Error(std::string("conic problem: ") + what + "[" + std::to_string(i) +
@@ -21,6 +23,7 @@ void check_finite(const Eigen::VectorXd& v, const char* what) {
 }
 
 void check_finite(const SparseMatrix& M, const char* what) {
+  if (M.isCompressed() && kernels::all_finite(M.nonZeros(), M.valuePtr())) return;
   for (int j = 0; j < M.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
       if (!std::isfinite(it.value())) {
@@ -115,10 +118,10 @@ Equilibration equilibration_factors(const ConicProblem& p, int passes) {
       const int end = p.G.isCompressed() ? p.G.outerIndexPtr()[j + 1] : begin + p.G.innerNonZeroPtr()[j];
       for (int e = begin; e < end;) {
         const int b = block_of_row[inner[e]], last = block_end[b - me];
-        double mx = 0.0;
-        for (; e < end && inner[e] < last; ++e) mx = std::max(mx, std::abs(val[e]));
+        const int run_end = static_cast<int>(std::lower_bound(inner + e, inner + end, last) - inner);
         block.push_back(b);
-        bmax.push_back(mx);
+        bmax.push_back(kernels::max_abs(run_end - e, val + e));
+        e = run_end;
       }
     }
     start[j + 1] = static_cast<int>(block.size());

@@ -46,6 +46,7 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
     QcqpConeStep s = infeasible_step(m2);
     s.iterations = r.iterations;
     s.ipm_status = r.status;
+    s.timings = r.timings;
     s.status = "infeasible: IPM certificate";
     return s;
   }
@@ -54,8 +55,10 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
   s.iterations = r.iterations;
   s.ipm_status = r.status;
   s.reduced_accuracy = r.reduced_accuracy;
+  s.polished = r.polished;
+  s.timings = r.timings;
   s.mu = radius > 0.0 ? std::max(0.0, r.z[cone2_head]) * e1_norm_at_d / radius : 0.0;
-  s.status = to_string(r.status) + (r.reduced_accuracy ? " (reduced accuracy)" : "") + (r.polished ? " (polished)" : "");
+  s.status = status_text(r) + (r.polished ? " (polished)" : "");
   return s;
 }
 

@@ -45,6 +45,8 @@ struct QcqpConeStep {
   int iterations = 0;
   IpmStatus ipm_status = IpmStatus::kOptimal;
   bool reduced_accuracy = false;
+  bool polished = false;
+  IpmTimings timings;  // of the IPM call (none when answered without one)
   std::string status;
 };
 
