@@ -3,7 +3,8 @@
 // `bivo profile` can split a frame pair's time without timing code sprinkled around.
 // Phase names used across the project:
 //   "pyramid", "residuals" (residuals + Jacobians), "weights", "normal_equations",
-//   "cone_data", "subproblem", "other".
+//   "cone_data", "subproblem", "other". A name "a/b" is a part of phase "a" (a backend's own
+// split, e.g. "subproblem/ipm_kkt_factor"): total_seconds() leaves it out.
 #include <chrono>
 #include <map>
 #include <string>
@@ -19,7 +20,9 @@ class PhaseProfile {
   }
   double total_seconds() const {
     double s = 0.0;
-    for (const auto& [name, t] : seconds_) s += t;
+    for (const auto& [name, t] : seconds_) {
+      if (name.find('/') == std::string::npos) s += t;
+    }
     return s;
   }
   const std::map<std::string, double>& all() const { return seconds_; }
