@@ -31,6 +31,16 @@ void record_phases(const IpmTimings& t, PhaseProfile* profile) {
   }
 }
 
+IpmTimings& IpmTimings::operator+=(const IpmTimings& o) {
+  for (int p = 0; p < static_cast<int>(IpmPhase::kCount); ++p) seconds[p] += o.seconds[p];
+  g_passes += o.g_passes;
+  kkt_factors += o.kkt_factors;
+  kkt_solves += o.kkt_solves;
+  refinement_steps += o.refinement_steps;
+  polish_attempts += o.polish_attempts;
+  return *this;
+}
+
 double IpmTimings::setup_seconds() const {
   double s = 0.0;
   for (int p = static_cast<int>(IpmPhase::kValidation); p <= static_cast<int>(IpmPhase::kSymbolic); ++p) s += seconds[p];

@@ -39,6 +39,7 @@ struct IpmTimings {
   int kkt_factors = 0, kkt_solves = 0, refinement_steps = 0;
   int polish_attempts = 0;
 
+  IpmTimings& operator+=(const IpmTimings& o);  // phases and counters summed
   double& operator[](IpmPhase p) { return seconds[static_cast<int>(p)]; }
   double operator[](IpmPhase p) const { return seconds[static_cast<int>(p)]; }
   double setup_seconds() const;      // validation .. symbolic

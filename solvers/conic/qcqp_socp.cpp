@@ -208,6 +208,22 @@ QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, c
   return read_solution(r, dim, dim + 1, e1, std::sqrt(epsilon - f2.floor), m2);
 }
 
+QcqpConeStep with_compressed_fallback(QcqpConeStep full, const QuadraticModel& m1, const QuadraticModel& m2,
+                                      double epsilon, const IpmSettings& settings) {
+  if (!settings.polish || !full.feasible || (full.polished && full.clean())) return full;
+  QcqpConeStep c = solve_qcqp_compressed(factor_from_model(m1), factor_from_model(m2), m2, epsilon, settings);
+  const std::string note = "full form " + full.status + "; compressed-form fallback " + c.status;
+  full.timings += c.timings;
+  if (c.feasible && c.clean()) {
+    c.iterations += full.iterations;
+    c.timings = full.timings;
+    c.fallback = true;
+    full = c;
+  }
+  full.status = note;
+  return full;
+}
+
 QcqpConeStep infeasible_step(const QuadraticModel& m2) {
   // epsilon below min m2: the closest we can get is m2's (minimum-norm) minimizer.
   const ConeFactor f = factor_from_model(m2);
