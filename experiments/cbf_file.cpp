@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "solvers/error.h"
@@ -226,10 +227,11 @@ CbfProblem convert(const ParsedCbf& p) {
   const int n = p.n, m = p.m, src_rows = m + n;
   Triplets s = p.a;
   for (int j = 0; j < n; ++j) s.emplace_back(m + j, j, 1.0);
-  SparseMatrix S(src_rows, n), bs(src_rows, 1), c(n, 1);
+  SparseMatrix S(src_rows, n);
   S.setFromTriplets(s.begin(), s.end());
-  bs.setFromTriplets(p.b.begin(), p.b.end());
-  c.setFromTriplets(p.c.begin(), p.c.end());
+  Eigen::VectorXd bs = Eigen::VectorXd::Zero(src_rows), c = Eigen::VectorXd::Zero(n);
+  for (const auto& t : p.b) bs[t.row()] += t.value();
+  for (const auto& t : p.c) c[t.row()] += t.value();
 
   RowSelection sel;
   int src = 0;
@@ -252,12 +254,13 @@ CbfProblem convert(const ParsedCbf& p) {
   out.maximize = p.maximize;
   out.objective_constant = p.c0;
   ConicProblem& q = out.problem;
-  q.c = Eigen::VectorXd(c.toDense().col(0)) * (p.maximize ? -1.0 : 1.0);
+  q.c = p.maximize ? Eigen::VectorXd(-c) : c;
   // s = P (S x + bs) in K  <=>  G x + s = h with G = -P S, h = P bs; equalities P S x = -P bs.
   q.A = Peq * S;
-  q.b = -Eigen::VectorXd((Peq * bs).toDense().col(0));
-  q.G = -(Pcone * S);
-  q.h = Eigen::VectorXd((Pcone * bs).toDense().col(0));
+  q.b = -(Peq * bs);
+  q.G = Pcone * S;
+  q.G *= -1.0;
+  q.h = Pcone * bs;
   q.A.prune(0.0);
   q.G.prune(0.0);
   q.A.makeCompressed();
