@@ -14,13 +14,9 @@ extern "C" {
 
 namespace bivo::solvers::conic {
 
-namespace {
-
 // q-hat = q1 / ||q1|| of a cone's scaling, or 0 when q1 = 0 (then c+ = c- = 0 and the
 // expansion columns decouple; any unit vector would do).
-bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
-
-}  // namespace
+static bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
 
 KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings,
                      IpmClock* clock)
@@ -39,7 +35,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
     for (int i = 0; i < cones.spec().soc[k]; ++i) cone_of_row_[cones.soc_offset(k) + i] = k;
   }
   const int pk0 = n_ + p_;  // p_k = pk0 + 2k, q_k = pk0 + 2k + 1
-
   // G_k^T G_k per cone (constant: the z pivots of cone k are all -beta_k^2), the orthant
   // rows' outer products, and the columns each cone couples to (nonzero columns of G_k).
   const RowMajorMatrix Gl = Gm.sparse_rows(0, l);
@@ -51,7 +46,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
       if (gram[k].coeff(j, j) > 0.0) couple[k].push_back(j);
     }
   }
-
   std::vector<std::pair<int, int>> entries;  // (col, row), both triangles
   auto add = [&](int r, int c) {
     entries.emplace_back(c, r);
@@ -93,7 +87,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   for (int j = 0; j < R_; ++j) {
     for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = slot(j, Ki_[s]);
   }
-
   // Constant values: +-delta and A; then the lists updated per factorization.
   base_.assign(Ki_.size(), 0.0);
   const double delta = settings_.static_regularization;
@@ -153,7 +146,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   inv_d_.assign(m_, 1.0);
   scale_p_.assign(nsoc_, 0.0);
   scale_q_.assign(nsoc_, 0.0);
-
   // Fill-reducing ordering once (the pattern never changes), x and y before p and q.
   PhaseScope ordering_phase(clock_, IpmPhase::kOrdering);
   std::vector<int> constraint(R_, 0);
