@@ -87,7 +87,8 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   bool stop = false;
   for (int it = 1; it <= options.max_iterations && !stop; ++it) {
     const auto t_iter = Clock::now();
-    const Subproblem sp = scalarization.make_subproblem(lin);
+    Subproblem sp = scalarization.make_subproblem(lin);
+    sp.profile = &summary.phases;
     StepResult step;
     {
       ScopedPhase phase(&summary.phases, "subproblem");

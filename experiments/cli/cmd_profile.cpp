@@ -15,7 +15,8 @@ void add_profile_command(CLI::App& app) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     ProfileOptions o;
-    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact"};
+    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact",
+                                      "bounded:ipm-full", "bounded:ipm-compressed"};
     std::string output;
   };
   auto a = std::make_shared<Args>();
@@ -25,6 +26,10 @@ void add_profile_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run")->capture_default_str();
+  cmd->add_option("--socp-max-frames", a->o.socp_max_frames,
+                  "frames for the interior-point SOCP backends (bounded:ipm-*; seconds per pair; 0 = --max-frames)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {
