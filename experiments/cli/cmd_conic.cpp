@@ -4,6 +4,7 @@
 #include <string>
 
 #include "experiments/cli/commands.h"
+#include "experiments/cli/flag_checks.h"
 #include "experiments/conic_file.h"
 #include "solvers/conic/ipm_solver.h"
 
@@ -15,9 +16,9 @@ void add_conic_command(CLI::App& app) {
   static solvers::conic::IpmSettings settings;
   static bool verbose = false, print_solution = false, no_polish = false;
   cmd->add_option("file", file, "JSON problem: c, A/b (optional), G, h, cones {l, q} (docs/conic.md)")->required();
-  cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(CLI::PositiveNumber);
-  cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--reltol", settings.reltol, "relative duality gap tolerance")->check(CLI::PositiveNumber);
+  cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(kFinitePositive);
+  cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(kFiniteNonNegative);
+  cmd->add_option("--reltol", settings.reltol, "relative duality gap tolerance")->check(kFinitePositive);
   cmd->add_option("--max-iter", settings.max_iterations, "iteration limit")->check(CLI::PositiveNumber);
   cmd->add_option("--equilibration-passes", settings.equilibration_passes, "Ruiz passes (0 = off)")
       ->check(CLI::NonNegativeNumber);
