@@ -44,6 +44,7 @@ class HardeningCli : public ::testing::Test {
     o.category = odometry::synth::parse_category("structure_texture_near");
     o.frames = 4;
     o.seed = 3;
+    o.render.supersampling = 1;  // every test is its own process: keep the rendering cheap
     sequence_ = odometry::synth::render_sequence(o, (root_ / "shared").string());
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
