@@ -9,6 +9,8 @@ DEMO_OUT ?= demo-output
 CMAKE_ARGS ?=
 SAN_BUILD ?= build-sanitize
 FUZZ_SECONDS ?= 30
+# Extra ctest arguments of `make sanitize`, e.g. SAN_CTEST_ARGS="-R Hardening" for a subset.
+SAN_CTEST_ARGS ?=
 # One clang build serves the sanitized test suite, the fuzz targets and the portability
 # check: -O1 keeps it fast to build and run, asserts stay on (Eigen's bounds checks),
 # warnings are errors, benchmarks are left out.
@@ -42,7 +44,7 @@ sanitize-build: deps
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 
 sanitize: sanitize-build
-	cd $(SAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j$(JOBS)
+	cd $(SAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j$(JOBS) $(SAN_CTEST_ARGS)
 
 fuzz: sanitize-build
 	$(SAN_ENV) bash scripts/run-fuzzers.sh $(SAN_BUILD) $(FUZZ_SECONDS)
