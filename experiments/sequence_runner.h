@@ -11,9 +11,11 @@
 // statistics (median/mean time per pair).
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
+#include "experiments/output_set.h"
 #include "odometry/tracker.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/profiling.h"
@@ -54,6 +56,21 @@ std::string run_summary_line(const RunOutcome& run);
 // mu,epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,note (errors empty without ground
 // truth; f_i / f_d empty when not evaluated, see TrackerOptions::evaluate_unused_objective).
 void write_pair_log(const std::string& path, const RunOutcome& run);
+void write_pair_log(std::ostream& out, const RunOutcome& run);
+
+// The files a run of `request` reads (lists, groundtruth.txt, every frame's images), for
+// check_output_files: an output must never overwrite one of them.
+std::vector<NamedPath> run_input_files(const RunRequest& request);
+
+// What `bivo run` writes; an empty path is not written.
+struct RunOutputPaths {
+  std::string trajectory;            // TUM trajectory
+  std::string log;                   // write_pair_log's CSV
+  std::vector<std::string> configs;  // the effective configuration (experiments/tracker_config.h)
+};
+
+// The outputs as one set: all appear or, on any failure, none (and nothing is replaced).
+void write_run_outputs(const RunOutcome& run, const odometry::TrackerOptions& config, const RunOutputPaths& paths);
 
 // The backend actually used: options.backend or the method's default.
 std::string effective_backend(const odometry::TrackerOptions& options);

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 
@@ -83,6 +84,9 @@ void validate(const TrackerOptions& options) {
   if (options.problem.threads < 1 || options.problem.threads > 256) {
     throw Error("threads must be in 1..256, got " + std::to_string(options.problem.threads));
   }
+  if (method == Method::kWeighted && !(options.policy.phi > 0.0 && std::isfinite(options.policy.phi))) {
+    throw Error("phi must be finite and > 0, got " + std::to_string(options.policy.phi));
+  }
   if (options.first_frame < 0) {
     throw Error("first frame must be >= 0, got " + std::to_string(options.first_frame));
   }
@@ -90,6 +94,17 @@ void validate(const TrackerOptions& options) {
     throw Error("max frames must be at least 2 (one frame pair) or -1 for all, got " +
                 std::to_string(options.max_frames));
   }
+}
+
+FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory) {
+  // In 64 bits: first_frame + 1 and first_frame + max_frames may exceed INT_MAX.
+  const std::int64_t first = options.first_frame;
+  if (first < 0 || first + 1 >= total) {
+    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
+                std::to_string(first) + " leaves fewer than 2 to process");
+  }
+  const std::int64_t end = options.max_frames < 0 ? total : std::min<std::int64_t>(total, first + options.max_frames);
+  return {static_cast<int>(first), static_cast<int>(end)};
 }
 
 PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads) {
@@ -123,7 +138,18 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     eps_bar = bounded_epsilon_per_weight(reference.statistics, options.policy);
     result.epsilon_per_weight = eps_bar;
   } else {
-    lambda = method_lambda(method, reference.statistics, options.policy);
+    std::string why;
+    const std::optional<double> defined = frame_lambda(method, reference.statistics, options.policy, &why);
+    if (!defined) {
+      // The reference frame cannot weigh the objectives (no valid depth, no texture): an
+      // invalid pair with the motion prior, as when every level is skipped (tracker.h).
+      result.valid = false;
+      result.T_21 = initial;
+      result.note = "lambda undefined, " + why + ": motion prior used";
+      result.seconds = seconds_since(t0);
+      return result;
+    }
+    lambda = *defined;
     result.lambda = lambda;
   }
   RgbdProblemOptions problem_options = options.problem;
@@ -229,13 +255,8 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
   const io::TumSequence seq = io::open_tum_sequence(directory, so);
-  const int total = static_cast<int>(seq.frames.size());
-  const int first_index = options.first_frame;
-  if (first_index + 1 >= total) {
-    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
-                std::to_string(first_index) + " leaves fewer than 2 to process");
-  }
-  const int end = options.max_frames < 0 ? total : std::min(total, first_index + options.max_frames);
+  const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, directory);
+  const int first_index = window.begin, end = window.end;
 
   TrackResult out;
   out.sequence = seq.name;

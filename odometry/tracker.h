@@ -16,9 +16,10 @@
 //   io::PoseError e = io::pose_error(T_21_estimate, *pair.groundtruth_T21);
 //
 // Frames are streamed: a run holds only the pair it works on. A pyramid level without
-// enough valid pixels is skipped (noted in LevelResult); when every level is skipped the
-// pair is marked invalid and the motion prior (identity or constant velocity) is used. A
-// pose is never NaN.
+// enough valid pixels is skipped (noted in LevelResult); when every level is skipped, or
+// the method's lambda is undefined on the reference frame (tykkala, weighted: no valid
+// depth, no texture), the pair is marked invalid and the motion prior (identity or
+// constant velocity) is used. A pose is never NaN.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -120,6 +121,13 @@ struct TrackResult {
   int invalid_pairs = 0;
   double load_seconds = 0.0;             // PNG decoding, all frames (not part of any pair)
 };
+
+// The frames [begin, end) of a sequence of `total` frames that options.first_frame and
+// max_frames select; bivo::Error naming `directory` and `total` when fewer than 2 remain.
+struct FrameWindow {
+  int begin = 0, end = 0;
+};
+FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory);
 
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2

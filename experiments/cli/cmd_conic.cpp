@@ -7,6 +7,7 @@
 
 #include "experiments/cbf_file.h"
 #include "experiments/cli/commands.h"
+#include "experiments/cli/flag_checks.h"
 #include "experiments/conic_file.h"
 #include "solvers/conic/ipm_solver.h"
 
@@ -22,9 +23,9 @@ void add_conic_command(CLI::App& app) {
   cmd->add_option("--format", format, "auto (by extension: .cbf = CBF, else JSON), json or cbf")
       ->check(CLI::IsMember({"auto", "json", "cbf"}))
       ->capture_default_str();
-  cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(CLI::PositiveNumber);
-  cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--reltol", settings.reltol, "relative duality gap tolerance")->check(CLI::PositiveNumber);
+  cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(kFinitePositive);
+  cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(kFiniteNonNegative);
+  cmd->add_option("--reltol", settings.reltol, "relative duality gap tolerance")->check(kFinitePositive);
   cmd->add_option("--max-iter", settings.max_iterations, "iteration limit")->check(CLI::PositiveNumber);
   cmd->add_option("--equilibration-passes", settings.equilibration_passes, "Ruiz passes (0 = off)")
       ->check(CLI::NonNegativeNumber);

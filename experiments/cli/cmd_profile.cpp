@@ -6,6 +6,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
+#include "experiments/output_set.h"
 #include "experiments/tracker_config.h"
 #include "experiments/profile_study.h"
 
@@ -33,6 +34,7 @@ void add_profile_command(CLI::App& app) {
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {
+    check_output_folder({"--output", a->output});
     ProfileOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.tracker = a->tracker->options();

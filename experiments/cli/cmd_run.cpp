@@ -9,8 +9,6 @@
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/sequence_runner.h"
-#include "experiments/tracker_config.h"
-#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {
@@ -60,20 +58,17 @@ void add_run_command(CLI::App& app) {
     // The log reports both objectives of every method (single / depth optimize one).
     if (!a->log.empty()) req.tracker.evaluate_unused_objective = true;
     // Fail before the run, not after it, when an output cannot be written.
-    for (const std::string* path : {&a->output, &a->log, &a->save_config}) {
-      if (path->empty()) continue;
-      const auto parent = std::filesystem::absolute(*path).parent_path();
-      if (!std::filesystem::is_directory(parent)) {
-        throw Error("cannot write '" + *path + "': directory '" + parent.string() + "' does not exist");
-      }
-    }
+    const std::string config_beside = a->output.empty() ? "" : config_path_for(a->output);
+    std::vector<NamedPath> inputs = run_input_files(req);
+    inputs.push_back({"--config", a->tracker->config_path()});
+    const RunOutputPaths outputs{a->output, a->log, {config_beside, a->save_config}};
+    check_output_files({{"--output", a->output},
+                        {"--log", a->log},
+                        {"the configuration beside --output", config_beside},
+                        {"--save-config", a->save_config}},
+                       inputs);
     const RunOutcome run = run_sequence(req);
-    if (!a->output.empty()) {
-      odometry::io::write_tum_trajectory(a->output, run.trajectory);
-      write_tracker_config(config_path_for(a->output), req.tracker);
-    }
-    if (!a->save_config.empty()) write_tracker_config(a->save_config, req.tracker);
-    if (!a->log.empty()) write_pair_log(a->log, run);
+    write_run_outputs(run, req.tracker, outputs);
     std::cout << run_summary_line(run) << std::endl;
   });
 }
