@@ -36,14 +36,7 @@ struct ResidualData {
 
 // The quadratic model of F = r^T diag(w) r from full data: a = r^T W r, b = J^T W r,
 // H = J^T W J (for problems that form J explicitly; odometry accumulates per pixel instead).
-inline QuadraticModel quadratic_model_of(const ResidualData& d) {
-  QuadraticModel m;
-  const Eigen::VectorXd wr = d.w.cwiseProduct(d.r);
-  m.a = d.r.dot(wr);
-  m.b = d.J.transpose() * wr;
-  m.H = d.J.transpose() * d.w.asDiagonal() * d.J;
-  return m;
-}
+QuadraticModel quadratic_model_of(const ResidualData& d);
 
 struct Linearization {
   QuadraticModel f1, f2;

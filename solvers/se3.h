@@ -1,5 +1,6 @@
 #pragma once
-// SE(3) helpers shared by every layer.
+// SE(3) helpers shared by every layer. Defined in se3.cpp: the bodies instantiate Eigen's
+// decompositions, which cost seconds of compile time in every file that includes this one.
 //
 // Conventions (docs/architecture.md):
 //  * a tangent vector is xi = [v; w] (translation first, as the paper's
@@ -21,84 +22,22 @@ inline Eigen::Matrix3d hat(const Eigen::Vector3d& w) {
 }
 
 // Rodrigues' rotation, with a Taylor expansion near zero so small angles stay exact.
-inline Eigen::Matrix3d so3_exp(const Eigen::Vector3d& w) {
-  const double th2 = w.squaredNorm();
-  const Eigen::Matrix3d W = hat(w);
-  double a, b;
-  if (th2 < 1e-10) {
-    a = 1.0 - th2 / 6.0;
-    b = 0.5 - th2 / 24.0;
-  } else {
-    const double th = std::sqrt(th2);
-    a = std::sin(th) / th;
-    b = (1.0 - std::cos(th)) / th2;
-  }
-  return Eigen::Matrix3d::Identity() + a * W + b * W * W;
-}
+Eigen::Matrix3d so3_exp(const Eigen::Vector3d& w);
 
 // Left Jacobian of SO(3): the V in exp([v;w]) = [R, V v; 0, 1].
-inline Eigen::Matrix3d so3_left_jacobian(const Eigen::Vector3d& w) {
-  const double th2 = w.squaredNorm();
-  const Eigen::Matrix3d W = hat(w);
-  double b, c;
-  if (th2 < 1e-10) {
-    b = 0.5 - th2 / 24.0;
-    c = 1.0 / 6.0 - th2 / 120.0;
-  } else {
-    const double th = std::sqrt(th2);
-    b = (1.0 - std::cos(th)) / th2;
-    c = (th - std::sin(th)) / (th2 * th);
-  }
-  return Eigen::Matrix3d::Identity() + b * W + c * W * W;
-}
+Eigen::Matrix3d so3_left_jacobian(const Eigen::Vector3d& w);
 
-inline Eigen::Isometry3d exp(const Vector6d& xi) {
-  const Eigen::Vector3d v = xi.head<3>();
-  const Eigen::Vector3d w = xi.tail<3>();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = so3_exp(w);
-  T.translation() = so3_left_jacobian(w) * v;
-  return T;
-}
-
-inline Eigen::Vector3d so3_log(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
-inline Vector6d log(const Eigen::Isometry3d& T) {
-  const Eigen::Vector3d w = so3_log(T.linear());
-  Vector6d xi;
-  xi.head<3>() = so3_left_jacobian(w).inverse() * T.translation();
-  xi.tail<3>() = w;
-  return xi;
-}
+Eigen::Isometry3d exp(const Vector6d& xi);
+Eigen::Vector3d so3_log(const Eigen::Matrix3d& R);
+Vector6d log(const Eigen::Isometry3d& T);
 
 // Left-perturbation retraction: T (+) d = exp(d) * T.
-inline Eigen::Isometry3d retract(const Eigen::Isometry3d& T, const Vector6d& d) {
-  return exp(d) * T;
-}
+Eigen::Isometry3d retract(const Eigen::Isometry3d& T, const Vector6d& d);
 
-inline Vector7d to_ambient(const Eigen::Isometry3d& T) {
-  Eigen::Quaterniond q(T.linear());
-  q.normalize();
-  Vector7d x;
-  x << T.translation(), q.x(), q.y(), q.z(), q.w();
-  return x;
-}
-
-inline Eigen::Isometry3d from_ambient(const Eigen::Ref<const Eigen::VectorXd>& x) {
-  Eigen::Quaterniond q(x(6), x(3), x(4), x(5));
-  q.normalize();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = q.toRotationMatrix();
-  T.translation() = x.head<3>();
-  return T;
-}
+Vector7d to_ambient(const Eigen::Isometry3d& T);
+Eigen::Isometry3d from_ambient(const Eigen::Ref<const Eigen::VectorXd>& x);
 
 // Rotation angle of a pose in radians (for error reports).
-inline double rotation_angle(const Eigen::Isometry3d& T) {
-  return Eigen::AngleAxisd(T.linear()).angle();
-}
+double rotation_angle(const Eigen::Isometry3d& T);
 
 }  // namespace bivo::solvers::se3
