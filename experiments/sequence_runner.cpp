@@ -6,6 +6,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "experiments/progress_bar.h"
 #include "experiments/result_table.h"
 #include "experiments/tracker_config.h"

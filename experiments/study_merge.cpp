@@ -7,6 +7,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "experiments/study_plan.h"
 #include "experiments/study_results.h"
 #include "experiments/tracker_config.h"

@@ -16,7 +16,7 @@
 // so flags -> file -> run gives identical results.
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "odometry/tracker.h"
 

@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "odometry/io/trajectory.h"
 
 namespace bivo::experiments {

@@ -3,7 +3,7 @@
 // TUM RPE over windows of delta seconds and ATE (odometry/io/metrics.h, docs/metrics.md).
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "odometry/io/metrics.h"
 

@@ -2,6 +2,8 @@
 // of an estimated trajectory (odometry/io/metrics.h, docs/metrics.md), printed as one line.
 #include <iostream>
 
+#include <nlohmann/json.hpp>
+
 #include "experiments/cli/commands.h"
 #include "experiments/output_set.h"
 #include "experiments/trajectory_evaluation.h"
