@@ -246,9 +246,23 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x) {
 void RgbdOdometryProblem::ensure_weights(const Eigen::VectorXd& x) {
   if (have_weights_) return;
   warp_all(x);
+  estimate_weights(false);
+}
+
+void RgbdOdometryProblem::estimate_weights(bool warm_start) {
   const std::size_t n = px_.size();
-  stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data());
-  stats_.sigma_depth = compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data());
+  if (options_.joint_weights) {
+    stats_.joint_scale = compute_joint_weights(r_i_.data(), r_d_.data(), valid_i_.data(), valid_d_.data(), n,
+                                               options_.weights, w_i_.data(), w_d_.data(),
+                                               warm_start ? stats_.joint_scale : JointScale{});
+    stats_.sigma_intensity = std::sqrt(stats_.joint_scale.s_ii);
+    stats_.sigma_depth = std::sqrt(stats_.joint_scale.s_dd);
+  } else {
+    stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data(),
+                                             warm_start ? stats_.sigma_intensity : 0.0);
+    stats_.sigma_depth = compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data(),
+                                         warm_start ? stats_.sigma_depth : 0.0);
+  }
   have_weights_ = true;
 }
 
@@ -263,11 +277,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
     solvers::ScopedPhase phase(options.profile, "weights");
     if (options.update_weights || !have_weights_) {
       // Warm start: the scale changes little between the iterations of one problem.
-      stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data(),
-                                               stats_.sigma_intensity);
-      stats_.sigma_depth =
-          compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data(), stats_.sigma_depth);
-      have_weights_ = true;
+      estimate_weights(true);
     }
   }
 

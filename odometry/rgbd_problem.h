@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry/joint_weights.h"
 #include "odometry/robust_weights.h"
 #include "odometry/rgbd_pyramid.h"
 #include "solvers/manifold.h"
@@ -34,6 +35,9 @@ struct RgbdProblemOptions {
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;
+  // true: ONE weight per pixel for (r_I, r_D) from the bivariate t-distribution with scale
+  // matrix S (joint_weights.h; method "joint") instead of two independent weightings.
+  bool joint_weights = false;
 };
 
 // What the latest linearize() saw (weights and scale are those of that call).
@@ -44,6 +48,7 @@ struct RgbdLinearizationStats {
   double sigma_intensity = 0.0, sigma_depth = 0.0;          // robust scales
   double weight_sum_intensity = 0.0, weight_sum_depth = 0.0;  // trace of Omega_I, Omega_D
   double f_intensity = 0.0, f_depth = 0.0;                  // F_I, F_D at x
+  JointScale joint_scale;      // options.joint_weights: the scale matrix S (else zero)
 };
 
 class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
@@ -71,6 +76,9 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // interpolation gradients used by the Jacobians (a no-op when x is the cached x).
   void warp_all(const Eigen::VectorXd& x);
   void ensure_weights(const Eigen::VectorXd& x);
+  // The weight stage: Omega_I, Omega_D from the residuals of the latest warp (warm-started
+  // from the previous scales when warm_start).
+  void estimate_weights(bool warm_start);
   void check_x(const Eigen::VectorXd& x) const;
 
   const RgbdLevel* reference_;
