@@ -50,7 +50,7 @@ RunOutcome run_sequence(const RunRequest& request,
 std::string run_summary_line(const RunOutcome& run);
 
 // Per-pair CSV: pair,t_reference,t_current,valid,iterations,ms,load_ms,lambda,epsilon,mu,
-// epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,note (errors empty without ground truth).
+// epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,note (errors empty without ground truth).
 void write_pair_log(const std::string& path, const RunOutcome& run);
 
 // The backend actually used: options.backend or the method's default.
