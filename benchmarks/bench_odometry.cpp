@@ -56,13 +56,15 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4));
 }
 
-void BM_OdometryLinearizeLevel0(benchmark::State& state) {
+void BM_OdometryLinearizeLevel0(benchmark::State& state, bool joint_weights) {
   const FramePair* pair = shared_pair();
   if (!pair) {
     state.SkipWithError(("shared data absent: " + kSequence).c_str());
     return;
   }
-  RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0]);
+  RgbdProblemOptions po;
+  po.joint_weights = joint_weights;  // method joint: one bivariate-t weight per pixel
+  RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0], po);
   Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
   for (auto _ : state) {
     // Alternate two poses so the problem's warp cache never short-cuts the work.
@@ -80,6 +82,10 @@ BENCHMARK_CAPTURE(BM_OdometryPair, fixed, std::string("fixed"), std::string(""))
 BENCHMARK_CAPTURE(BM_OdometryPair, tykkala, std::string("tykkala"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted, std::string("weighted"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, bounded, std::string("bounded"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, joint, std::string("joint"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, scaled, std::string("scaled"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryPrepareFrame)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OdometryLinearizeLevel0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryLinearizeLevel0, independent, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryLinearizeLevel0, joint, true)->Unit(benchmark::kMillisecond);
