@@ -1,14 +1,19 @@
 // Milliseconds per frame pair of each odometry method at 640x480 on real TUM frames
-// (fr1/desk frames 0 -> 1, 4 pyramid levels, identity start), plus the building blocks:
-// frame preparation (pyramid + statistics) and one level-0 linearization.
-// Targets (one core): weighted sum <= 8 ms per pair, bounded <= 1.15 x weighted sum.
+// (fr1/desk frames 0 -> 1, 4 pyramid levels, identity start), the building blocks (frame
+// preparation, one level-0 linearization and evaluation per instruction set and thread
+// count), a warm-started 32-point Pareto sweep against one solve of the same pair, and the
+// memory stream rate that bounds the per-pixel passes from below (docs/odometry.md "Speed").
+// Per-method figures on fr1/rpy sequences: bench_odometry_pairs.cpp.
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "odometry/tracker.h"
+#include "solvers/pareto.h"
 #include "solvers/se3.h"
 
 namespace {
@@ -28,12 +33,15 @@ const FramePair* shared_pair() {
   return pair.get();
 }
 
-void BM_OdometryPair(benchmark::State& state, const std::string& method, const std::string& backend) {
-  const FramePair* pair = shared_pair();
-  if (!pair) {
-    state.SkipWithError(("shared data absent: " + kSequence).c_str());
-    return;
+#define BIVO_NEED_PAIR(pair)                                                \
+  const FramePair* pair = shared_pair();                                    \
+  if (!pair) {                                                              \
+    state.SkipWithError(("shared data absent: " + kSequence).c_str());      \
+    return;                                                                 \
   }
+
+void BM_OdometryPair(benchmark::State& state, const std::string& method, const std::string& backend) {
+  BIVO_NEED_PAIR(pair);
   TrackerOptions o;
   o.method = method;
   o.backend = backend;
@@ -53,25 +61,101 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   }
   const TumSequence seq = open_tum_sequence(kSequence);
   const RgbdImage image = load_rgbd_image(seq.frames[0]);
-  for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4));
+  const int threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads));
 }
 
-void BM_OdometryLinearizeLevel0(benchmark::State& state, bool joint_weights) {
-  const FramePair* pair = shared_pair();
-  if (!pair) {
-    state.SkipWithError(("shared data absent: " + kSequence).c_str());
+// One level-0 linearization (warp, weights, normal equations) with the given kernels and
+// threads; joint = 1: method joint's weight stage (one bivariate-t weight per pixel).
+void BM_OdometryLinearizeLevel0(benchmark::State& state) {
+  BIVO_NEED_PAIR(pair);
+  const KernelIsa isa = state.range(0) ? KernelIsa::kAvx2 : KernelIsa::kScalar;
+  if (!kernels_available(isa)) {
+    state.SkipWithError("kernels not available on this CPU / build");
     return;
   }
   RgbdProblemOptions po;
-  po.joint_weights = joint_weights;  // method joint: one bivariate-t weight per pixel
+  po.threads = static_cast<int>(state.range(1));
+  po.joint_weights = state.range(2) != 0;
   RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0], po);
+  problem.set_kernel_isa(isa);
   Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
   for (auto _ : state) {
-    // Alternate two poses so the problem's warp cache never short-cuts the work.
-    x(0) += 1e-6;
+    x(0) += 1e-6;  // a new pose each time: no cached warp
     benchmark::DoNotOptimize(problem.linearize(x, {}));
   }
   state.counters["terms"] = problem.num_terms();
+  state.SetLabel(to_string(isa));
+}
+
+// One level-0 evaluate() at a new pose: the warp with F summed under the stored weights.
+void BM_OdometryEvaluateLevel0(benchmark::State& state) {
+  BIVO_NEED_PAIR(pair);
+  RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0]);
+  Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
+  problem.linearize(x, {});
+  for (auto _ : state) {
+    x(0) += 1e-6;
+    benchmark::DoNotOptimize(problem.evaluate(x));
+  }
+}
+
+// A 32-point lambda sweep at one level, warm-started from the weighted method's estimate of
+// the same pair, against that estimate (one solve): counter sweep_over_solve (CPU time).
+void BM_ParetoSweep32(benchmark::State& state) {
+  BIVO_NEED_PAIR(pair);
+  const int level = static_cast<int>(state.range(0));
+  TrackerOptions o;
+  o.finest_level = level;
+  double solve_s = 0, sweep_s = 0;
+  int solves = 0;
+  for (auto _ : state) {
+    const double t0 = process_cpu_seconds();  // CPU time: the machine is shared
+    const PairResult r = estimate_motion(pair->reference, pair->current, Eigen::Isometry3d::Identity(), o);
+    const double t1 = process_cpu_seconds();
+    auto problem = pair->problem(level, o);
+    bivo::solvers::ParetoOptions po;
+    po.points = 32;
+    po.lambda_min = 1.0;
+    po.lambda_max = 1e7;
+    po.solver.max_iterations = o.max_iterations;
+    po.solver.step_tolerance = o.step_tolerance;
+    po.solver.relative_decrease_tolerance = o.relative_decrease_tolerance;
+    po.solver.step_measure = [&problem](const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
+      return problem->pixel_motion(x, d);
+    };
+    po.solver.step_measure_tolerance = o.pixel_motion_tolerance;
+    const auto front = bivo::solvers::sweep_lambda(*problem, bivo::solvers::se3::to_ambient(r.T_21), po);
+    const double t2 = process_cpu_seconds();
+    benchmark::DoNotOptimize(front.points.size());
+    solve_s += t1 - t0;
+    sweep_s += t2 - t1;
+    ++solves;
+  }
+  state.counters["solve_ms"] = 1000.0 * solve_s / solves;
+  state.counters["sweep_ms"] = 1000.0 * sweep_s / solves;
+  state.counters["sweep_over_solve"] = sweep_s / solve_s;
+}
+
+// Reading the level-0 working set (~14 MB: reference terms, residual, gradient and weight
+// buffers, the interleaved current image) once: the floor of one per-pixel pass.
+void BM_OdometryStreamFloor(benchmark::State& state) {
+  std::vector<float> buffer(static_cast<std::size_t>(state.range(0)) << 18, 1.0f);  // range(0) MB
+  for (auto _ : state) {
+    float s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, s6 = 0, s7 = 0;
+    for (std::size_t i = 0; i < buffer.size(); i += 8) {
+      s0 += buffer[i];
+      s1 += buffer[i + 1];
+      s2 += buffer[i + 2];
+      s3 += buffer[i + 3];
+      s4 += buffer[i + 4];
+      s5 += buffer[i + 5];
+      s6 += buffer[i + 6];
+      s7 += buffer[i + 7];
+    }
+    benchmark::DoNotOptimize(s0 + s1 + s2 + s3 + s4 + s5 + s6 + s7);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(buffer.size() * 4));
 }
 
 }  // namespace
@@ -86,6 +170,15 @@ BENCHMARK_CAPTURE(BM_OdometryPair, joint, std::string("joint"), std::string(""))
 BENCHMARK_CAPTURE(BM_OdometryPair, scaled, std::string("scaled"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OdometryPrepareFrame)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_OdometryLinearizeLevel0, independent, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_OdometryLinearizeLevel0, joint, true)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryPrepareFrame)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OdometryLinearizeLevel0)
+    ->ArgNames({"avx2", "threads", "joint"})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 2, 0})
+    ->Args({1, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_OdometryEvaluateLevel0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParetoSweep32)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryStreamFloor)->Arg(14)->Arg(64)->Unit(benchmark::kMillisecond);

@@ -1,7 +1,10 @@
 // The JSON conic-program reader and the `bivo conic` result text (conic_file.h).
 #include "experiments/conic_file.h"
 
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <limits>
 #include <fstream>
 #include <string>
 
@@ -17,9 +20,42 @@ using solvers::conic::ConicProblem;
 using solvers::conic::SparseMatrix;
 using json = nlohmann::json;
 
+// Values are described, never serialised whole, so an error message stays short whatever
+// the file holds (a dump of a deeply nested value would also recurse once per level).
+std::string describe(const json& v) {
+  switch (v.type()) {
+    case json::value_t::array: return "an array of " + std::to_string(v.size()) + " entries";
+    case json::value_t::object: return "an object of " + std::to_string(v.size()) + " keys";
+    case json::value_t::string: {
+      const auto& text = v.get_ref<const std::string&>();
+      return "the string \"" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "\"";
+    }
+    default: return v.dump();  // number, boolean, null: a few characters
+  }
+}
+
 double number(const json& v, const std::string& where) {
-  if (!v.is_number()) throw Error(where + " is not a number (" + v.dump() + ")");
+  if (!v.is_number()) throw Error(where + " is not a number (" + describe(v) + ")");
   return v.get<double>();
+}
+
+// Every integer of the format (sizes, indices, cone dimensions) is range-checked here, in
+// double, before any conversion: a cast of an out-of-range double to int is undefined.
+int integer(const json& v, const std::string& where, int lo, int hi) {
+  const double d = number(v, where);
+  if (!(d >= lo && d <= hi) || d != std::floor(d)) {
+    throw Error(where + " must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                describe(v));
+  }
+  return static_cast<int>(d);
+}
+
+constexpr int kMaxIndex = std::numeric_limits<int>::max();
+
+// Array lengths become Eigen indices and row counts (int).
+int length(const json& a, const std::string& where) {
+  if (a.size() > static_cast<std::size_t>(kMaxIndex)) throw Error(where + " has more than 2^31 - 1 entries");
+  return static_cast<int>(a.size());
 }
 
 Eigen::VectorXd vector_field(const json& doc, const char* key, const std::string& file, bool required) {
@@ -28,9 +64,10 @@ Eigen::VectorXd vector_field(const json& doc, const char* key, const std::string
     return Eigen::VectorXd(0);
   }
   const json& a = doc.at(key);
-  if (!a.is_array()) throw Error(file + ": \"" + key + "\" must be an array of numbers");
-  Eigen::VectorXd v(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) v[i] = number(a[i], file + ": " + key + "[" + std::to_string(i) + "]");
+  if (!a.is_array()) throw Error(file + ": \"" + key + "\" must be an array of numbers, got " + describe(a));
+  const int size = length(a, file + ": " + key);
+  Eigen::VectorXd v(size);
+  for (int i = 0; i < size; ++i) v[i] = number(a[i], file + ": " + key + "[" + std::to_string(i) + "]");
   return v;
 }
 
@@ -45,9 +82,9 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
   std::vector<Eigen::Triplet<double>> t;
   int rows = 0, ncols = cols;
   if (a.is_array()) {  // dense rows
-    rows = static_cast<int>(a.size());
+    rows = length(a, where);
     for (int i = 0; i < rows; ++i) {
-      if (!a[i].is_array() || static_cast<int>(a[i].size()) != cols) {
+      if (!a[i].is_array() || a[i].size() != static_cast<std::size_t>(cols)) {
         throw Error(where + " row " + std::to_string(i) + " must have " + std::to_string(cols) +
                     " entries (the length of c)");
       }
@@ -60,9 +97,9 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
     if (!a.contains("rows") || !a.contains("cols") || !a.contains("triplets")) {
       throw Error(where + " needs \"rows\", \"cols\" and \"triplets\"");
     }
-    rows = static_cast<int>(number(a.at("rows"), where + ".rows"));
-    ncols = static_cast<int>(number(a.at("cols"), where + ".cols"));
-    if (rows < 0 || ncols != cols) {
+    rows = integer(a.at("rows"), where + ".rows", 0, kMaxIndex);
+    ncols = integer(a.at("cols"), where + ".cols", 0, kMaxIndex);
+    if (ncols != cols) {
       throw Error(where + " is " + std::to_string(rows) + " x " + std::to_string(ncols) + " but c has " +
                   std::to_string(cols) + " entries");
     }
@@ -71,16 +108,15 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
     for (std::size_t k = 0; k < tr.size(); ++k) {
       const std::string w = where + ".triplets[" + std::to_string(k) + "]";
       if (!tr[k].is_array() || tr[k].size() != 3) throw Error(w + " must be [i, j, v]");
-      const double fi = number(tr[k][0], w + "[0]"), fj = number(tr[k][1], w + "[1]");
-      const int i = static_cast<int>(fi), j = static_cast<int>(fj);
-      if (i != fi || j != fj || i < 0 || i >= rows || j < 0 || j >= cols) {
-        throw Error(w + " index (" + tr[k][0].dump() + ", " + tr[k][1].dump() + ") outside " + std::to_string(rows) +
-                    " x " + std::to_string(cols));
+      const int i = integer(tr[k][0], w + "[0]", 0, kMaxIndex), j = integer(tr[k][1], w + "[1]", 0, kMaxIndex);
+      if (i >= rows || j >= cols) {
+        throw Error(w + " index (" + std::to_string(i) + ", " + std::to_string(j) + ") outside " +
+                    std::to_string(rows) + " x " + std::to_string(cols));
       }
       t.emplace_back(i, j, number(tr[k][2], w + "[2]"));
     }
   } else {
-    throw Error(where + " must be dense rows or {rows, cols, triplets}");
+    throw Error(where + " must be dense rows or {rows, cols, triplets}, got " + describe(a));
   }
   M.resize(rows, cols);
   M.setFromTriplets(t.begin(), t.end());
@@ -90,11 +126,20 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
 }  // namespace
 
 ConicProblem read_conic_json(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw Error("conic problem file '" + file + "' is a folder");
   std::ifstream in(file);
   if (!in) throw Error("cannot open conic problem file '" + file + "'");
   json doc;
   try {
-    in >> doc;
+    // The format nests three levels deep; far deeper input is refused while it is read.
+    constexpr int kMaxDepth = 16;
+    doc = json::parse(in, [&](int depth, json::parse_event_t, json&) {
+      if (depth > kMaxDepth) {
+        throw Error(file + ": values nested more than " + std::to_string(kMaxDepth) + " levels deep");
+      }
+      return true;
+    });
   } catch (const json::exception& e) {
     throw Error(file + ": not valid JSON (" + e.what() + ")");
   }
@@ -108,19 +153,12 @@ ConicProblem read_conic_json(const std::string& file) {
   p.h = vector_field(doc, "h", file, false);
   if (!doc.contains("cones") || !doc.at("cones").is_object()) throw Error(file + ": missing \"cones\" object");
   const json& cones = doc.at("cones");
-  if (cones.contains("l")) {
-    const double l = number(cones.at("l"), file + ": cones.l");
-    if (l < 0 || l != static_cast<int>(l)) throw Error(file + ": cones.l must be a non-negative integer, got " + cones.at("l").dump());
-    p.cones.nonnegative = static_cast<int>(l);
-  }
+  if (cones.contains("l")) p.cones.nonnegative = integer(cones.at("l"), file + ": cones.l", 0, kMaxIndex);
   if (cones.contains("q")) {
-    if (!cones.at("q").is_array()) throw Error(file + ": cones.q must be an array of dimensions");
-    for (std::size_t k = 0; k < cones.at("q").size(); ++k) {
-      const double d = number(cones.at("q")[k], file + ": cones.q[" + std::to_string(k) + "]");
-      if (d < 1 || d != static_cast<int>(d)) {
-        throw Error(file + ": cones.q[" + std::to_string(k) + "] must be an integer >= 1, got " + cones.at("q")[k].dump());
-      }
-      p.cones.soc.push_back(static_cast<int>(d));
+    const json& q = cones.at("q");
+    if (!q.is_array()) throw Error(file + ": cones.q must be an array of dimensions, got " + describe(q));
+    for (int k = 0; k < length(q, file + ": cones.q"); ++k) {
+      p.cones.soc.push_back(integer(q[k], file + ": cones.q[" + std::to_string(k) + "]", 1, kMaxIndex));
     }
   }
   try {

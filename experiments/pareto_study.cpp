@@ -1,7 +1,7 @@
 #include "experiments/pareto_study.h"
 
 #include <chrono>
-#include <filesystem>
+#include <cstdint>
 #include <iomanip>
 #include <sstream>
 
@@ -90,6 +90,12 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
   po.solver.max_iterations = base.max_iterations;
   po.solver.step_tolerance = base.step_tolerance;
   po.solver.relative_decrease_tolerance = base.relative_decrease_tolerance;
+  if (base.pixel_motion_tolerance > 0.0) {
+    // Warm-started neighbours often differ by less than anyone can see: stop there.
+    odometry::RgbdOdometryProblem* p = problem.get();
+    po.solver.step_measure = [p](const Eigen::VectorXd& x, const Eigen::VectorXd& d) { return p->pixel_motion(x, d); };
+    po.solver.step_measure_tolerance = base.pixel_motion_tolerance;
+  }
   const solvers::ParetoFront lf = solvers::sweep_lambda(*problem, x0, po);
   const solvers::ParetoFront ef = solvers::sweep_epsilon(*problem, x0, po);
   study.lambda_front = front_points(lf, *problem, pair.groundtruth_T21);
@@ -164,19 +170,28 @@ std::string pareto_json(const ParetoStudy& s) {
 
 std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int every, int max_pairs) {
   if (pair < 0 && every <= 0) throw Error("give --pair K (K >= 0) or --every K (K >= 1)");
+  if (pair < 0 && max_pairs < 1) throw Error("--max-pairs must be >= 1, got " + std::to_string(max_pairs));
+  // Every pair is checked against the sequence before any study runs (in 64 bits: k + every
+  // and pair + 1 may exceed INT_MAX).
+  const std::int64_t frames = static_cast<std::int64_t>(odometry::io::open_tum_sequence(sequence_dir).frames.size());
   std::vector<int> pairs;
   if (pair >= 0) {
+    if (std::int64_t{pair} + 1 >= frames) {
+      throw Error("--pair " + std::to_string(pair) + ": sequence '" + sequence_dir + "' has " +
+                  std::to_string(frames) + " frames, pairs 0.." + std::to_string(frames - 2));
+    }
     pairs.push_back(pair);
   } else {
-    const int frames = int(odometry::io::open_tum_sequence(sequence_dir).frames.size());
-    for (int k = 0; k + 1 < frames && int(pairs.size()) < max_pairs; k += every) pairs.push_back(k);
+    for (std::int64_t k = 0; k + 1 < frames && std::int64_t(pairs.size()) < max_pairs; k += every) {
+      pairs.push_back(static_cast<int>(k));
+    }
   }
   return pairs;
 }
 
 std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const std::vector<std::string>& methods,
                                  const std::string& dir, bool plots) {
-  std::filesystem::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   std::ostringstream md;
   md << "| pair | level | lambda-front points | epsilon-front points | knee F_I | knee F_D | knee error [mm] |";
   for (const auto& m : methods) md << " " << m << " error [mm] |";
@@ -189,18 +204,24 @@ std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const 
     else s << "—";
     return s.str();
   };
+  odometry::io::StagedOutputs out;
   for (const ParetoStudy& s : studies) {
     const int k = s.pair;
-    const std::string base = dir + "/pareto_pair" + std::to_string(k);
-    odometry::io::write_file_atomically(base + ".json", [&](std::ostream& out) { out << pareto_json(s); });
-    if (plots) plot("pareto_front.py", {base + ".json", base + ".png"});
+    out.add(dir + "/pareto_pair" + std::to_string(k) + ".json", [&](std::ostream& o) { o << pareto_json(s); });
     md << "| " << k << " | " << s.level << " | " << s.lambda_front.size() << " | " << s.epsilon_front.size() << " | ";
     if (s.knee) md << std::setprecision(6) << s.knee->f_i << " | " << s.knee->f_d << " | " << mm(*s.knee) << " |";
     else md << "— | — | — |";
     for (const auto& p : s.methods) md << " " << mm(p) << " |";
     md << " " << std::fixed << std::setprecision(1) << s.seconds << std::defaultfloat << " |\n";
   }
-  odometry::io::write_file_atomically(dir + "/pareto.md", [&](std::ostream& out) { out << md.str(); });
+  out.add(dir + "/pareto.md", [&](std::ostream& o) { o << md.str(); });
+  out.commit();
+  if (plots) {
+    for (const ParetoStudy& s : studies) {
+      const std::string base = dir + "/pareto_pair" + std::to_string(s.pair);
+      plot("pareto_front.py", {base + ".json", base + ".png"});
+    }
+  }
   return md.str();
 }
 

@@ -1,12 +1,13 @@
 #pragma once
 // Where the time of a frame pair goes, per method and backend (`bivo profile`): ms per pair
-// in each phase the layers record (solvers/profiling.h: pyramid, residuals (+ Jacobians),
+// in each phase the layers record (solvers/profiling.h: pyramid, reference, residuals,
 // weights, normal_equations, cone_data, subproblem, other), mean outer iterations per
 // pyramid level, and per level the gap between the epsilon-constraint (QCQP / SOCP) solution
 // and the Gauss-Newton single-objective solution of the same pairs:
 //   F_I gap = mean over pairs of (F_I(method) - F_I(single, gn)) / F_I(single, gn)
 //   F_D ratio = mean over pairs of F_D(method) / F_D(single, gn)
-// i.e. what bounding F_D costs in F_I and what it buys in F_D at each level.
+// i.e. what bounding F_D costs in F_I and what it buys in F_D at each level; and the runtime
+// per pair of each method against single/gn, as the paper's table 3 reports it.
 #include <map>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct ProfileOptions {
   std::vector<MethodSpec> methods;  // "single" with gn is added first when missing (the reference)
   odometry::TrackerOptions tracker;
   int first_frame = 0, max_frames = 30;
+  // Frames for the interior-point SOCP backends (bounded:ipm-*), which cost seconds per pair
+  // at VGA; 0 = max_frames. Their per-pair means are over these first frames.
+  int socp_max_frames = 5;
   int progress = -1;
 };
 

@@ -11,9 +11,11 @@
 // statistics (median/mean time per pair).
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
+#include "experiments/output_set.h"
 #include "odometry/tracker.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/profiling.h"
@@ -37,7 +39,8 @@ struct RunOutcome {
   std::vector<odometry::PairResult> pairs;
   solvers::PhaseProfile profile;                 // summed over pairs (loading excluded)
   int failures = 0;                              // pairs whose every level was skipped
-  double median_ms = 0, mean_ms = 0;             // time per pair, loading excluded
+  double median_ms = 0, mean_ms = 0;             // wall time per pair, loading excluded
+  double median_cpu_ms = 0, mean_cpu_ms = 0;     // CPU time per pair (all threads), loading excluded
   double load_seconds = 0;                       // PNG decoding, all frames
 };
 
@@ -46,12 +49,29 @@ struct RunOutcome {
 RunOutcome run_sequence(const RunRequest& request,
                         const std::function<void(const odometry::PairResult&)>& on_pair = {});
 
-// "frames=N median_ms=X mean_ms=Y failures=K" (no newline).
+// "frames=N median_ms=X mean_ms=Y median_cpu_ms=A mean_cpu_ms=B failures=K" (no newline).
 std::string run_summary_line(const RunOutcome& run);
 
-// Per-pair CSV: pair,t_reference,t_current,valid,iterations,ms,load_ms,lambda,epsilon,mu,
-// epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,note (errors empty without ground truth).
+// Per-pair CSV: pair,t_reference,t_current,valid,iterations,ms,cpu_ms,load_ms,lambda,epsilon,
+// mu,epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,note
+// (errors empty without ground truth; f_i / f_d empty when not evaluated, see
+// TrackerOptions::evaluate_unused_objective).
 void write_pair_log(const std::string& path, const RunOutcome& run);
+void write_pair_log(std::ostream& out, const RunOutcome& run);
+
+// The files a run of `request` reads (lists, groundtruth.txt, every frame's images), for
+// check_output_files: an output must never overwrite one of them.
+std::vector<NamedPath> run_input_files(const RunRequest& request);
+
+// What `bivo run` writes; an empty path is not written.
+struct RunOutputPaths {
+  std::string trajectory;            // TUM trajectory
+  std::string log;                   // write_pair_log's CSV
+  std::vector<std::string> configs;  // the effective configuration (experiments/tracker_config.h)
+};
+
+// The outputs as one set: all appear or, on any failure, none (and nothing is replaced).
+void write_run_outputs(const RunOutcome& run, const odometry::TrackerOptions& config, const RunOutputPaths& paths);
 
 // The backend actually used: options.backend or the method's default.
 std::string effective_backend(const odometry::TrackerOptions& options);

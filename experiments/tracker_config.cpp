@@ -41,6 +41,8 @@ json tracker_options_to_json(const TrackerOptions& o) {
       {"max_iterations", o.max_iterations},
       {"step_tolerance", o.step_tolerance},
       {"relative_decrease_tolerance", o.relative_decrease_tolerance},
+      {"pixel_motion_tolerance", o.pixel_motion_tolerance},
+      {"evaluate_unused_objective", o.evaluate_unused_objective},
       {"min_valid_pixels", o.min_valid_pixels},
       {"max_association_dt", o.max_association_dt},
       {"first_frame", o.first_frame},
@@ -54,6 +56,9 @@ json tracker_options_to_json(const TrackerOptions& o) {
         {"occlusion_margin", o.problem.occlusion_margin},
         {"depth_first", o.problem.depth_first},
         {"joint_weights", o.problem.joint_weights},
+        {"model_f2", o.problem.model_f2},
+        {"jacobian", odometry::to_string(o.problem.jacobian)},
+        {"threads", o.problem.threads},
         {"weights",
          {{"kind", odometry::to_string(w.kind)},
           {"nu", w.nu},
@@ -80,6 +85,8 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
   r.integer("max_iterations", o.max_iterations, 1, 100000);
   r.number("step_tolerance", o.step_tolerance, 0.0, kInf);
   r.number("relative_decrease_tolerance", o.relative_decrease_tolerance, 0.0, kInf);
+  r.number("pixel_motion_tolerance", o.pixel_motion_tolerance, 0.0, kInf);
+  r.boolean("evaluate_unused_objective", o.evaluate_unused_objective);
   r.integer("min_valid_pixels", o.min_valid_pixels, 1, kIntMax);
   r.number("max_association_dt", o.max_association_dt, 0.0, 1e6);
   r.integer("first_frame", o.first_frame, 0, kIntMax);
@@ -114,6 +121,9 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
     pr.number("occlusion_margin", o.problem.occlusion_margin, 0.0, kInf);
     pr.boolean("depth_first", o.problem.depth_first);
     pr.boolean("joint_weights", o.problem.joint_weights);
+    pr.boolean("model_f2", o.problem.model_f2);
+    pr.name("jacobian", o.problem.jacobian, odometry::parse_jacobian_kind);
+    pr.integer("threads", o.problem.threads, 1, 256);
     if (const json* w = pr.find("weights")) {
       auto& wo = o.problem.weights;
       ObjectReader wr(*w, pr.path("weights"));

@@ -11,15 +11,17 @@ namespace bivo::odometry {
 // With skip_missing (depth) a difference is used only when both of its values are valid
 // (> 0) and each mean runs over the differences used, so a fully valid image gives exactly
 // the paper's value and holes do not bias it. A direction without usable differences adds 0.
-double complexity_metric(const ImageF& image, bool skip_missing);
+double complexity_metric(const ImageF& image, bool skip_missing, int threads = 1);
 
 // Population variance of the values (valid ones only with skip_missing); 0 if none.
-double variance(const ImageF& image, bool skip_missing);
+double variance(const ImageF& image, bool skip_missing, int threads = 1);
 
-// Median of the values (valid ones only with skip_missing); 0 if none.
+// Median of the values (valid ones only with skip_missing); 0 if none. Exact (the mean of the
+// two middle values for an even count).
 double median(const ImageF& image, bool skip_missing);
 
-// Everything the policies need from one frame, computed once per pair.
+// Everything the policies need from one frame, computed once per frame. Sums are taken over
+// fixed row chunks (threads change the time, not the numbers).
 struct FrameStatistics {
   double pi_intensity = 0.0;  // gray levels per pixel
   double pi_depth = 0.0;      // metres per pixel
@@ -27,6 +29,6 @@ struct FrameStatistics {
   double median_intensity = 0.0, median_depth = 0.0;
   double valid_depth_fraction = 0.0;
 };
-FrameStatistics frame_statistics(const RgbdLevel& level);
+FrameStatistics frame_statistics(const RgbdLevel& level, int threads = 1);
 
 }  // namespace bivo::odometry

@@ -52,11 +52,11 @@ JointScale weighted_moments(const std::vector<float>& u, const std::vector<float
   return {suu * inv_n, suv * inv_n, svv * inv_n};
 }
 
-}  // namespace
-
-JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsigned char* valid_i,
-                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options,
-                                 float* w_i, float* w_d, const JointScale& initial) {
+// The estimator for any validity encoding: valid_i(k), valid_d(k) say whether r_I,k, r_D,k count.
+template <class ValidI, class ValidD>
+JointScale joint_weights(const float* r_i, const float* r_d, const ValidI& valid_i, const ValidD& valid_d,
+                         std::size_t n, const WeightOptions& options, float* w_i, float* w_d,
+                         const JointScale& initial) {
   // Residuals of the terms valid in both objectives, contiguous.
   std::vector<float> u, v;
   u.reserve(n);
@@ -64,9 +64,9 @@ JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsig
   double sum_ii = 0.0, sum_dd = 0.0;
   std::size_t count_i = 0, count_d = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    if (valid_i[k]) sum_ii += double(r_i[k]) * r_i[k], ++count_i;
-    if (valid_d[k]) sum_dd += double(r_d[k]) * r_d[k], ++count_d;
-    if (valid_i[k] && valid_d[k]) {
+    if (valid_i(k)) sum_ii += double(r_i[k]) * r_i[k], ++count_i;
+    if (valid_d(k)) sum_dd += double(r_d[k]) * r_d[k], ++count_d;
+    if (valid_i(k) && valid_d(k)) {
       u.push_back(r_i[k]);
       v.push_back(r_d[k]);
     }
@@ -92,8 +92,8 @@ JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsig
   if (!s.valid()) {
     // Degenerate (no residual, or all zero in one objective): unit weights, as compute_weights.
     for (std::size_t k = 0; k < n; ++k) {
-      w_i[k] = valid_i[k] ? 1.0f : 0.0f;
-      w_d[k] = valid_d[k] ? 1.0f : 0.0f;
+      w_i[k] = valid_i(k) ? 1.0f : 0.0f;
+      w_d[k] = valid_d(k) ? 1.0f : 0.0f;
     }
     return s;
   }
@@ -104,16 +104,34 @@ JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsig
   const float fnu = static_cast<float>(nu), fnu1 = static_cast<float>(nu + 1.0), fnu2 = static_cast<float>(nu + 2.0);
   for (std::size_t k = 0; k < n; ++k) {
     const float x = r_i[k], y = r_d[k];
-    if (valid_i[k] && valid_d[k]) {
+    if (valid_i(k) && valid_d(k)) {
       const float w = fnu2 / (fnu + a * x * x + 2.0f * b * x * y + c * y * y);
       w_i[k] = w;
       w_d[k] = w;
     } else {
-      w_i[k] = valid_i[k] ? fnu1 / (fnu + x * x * inv_ii) : 0.0f;
-      w_d[k] = valid_d[k] ? fnu1 / (fnu + y * y * inv_dd) : 0.0f;
+      w_i[k] = valid_i(k) ? fnu1 / (fnu + x * x * inv_ii) : 0.0f;
+      w_d[k] = valid_d(k) ? fnu1 / (fnu + y * y * inv_dd) : 0.0f;
     }
   }
   return s;
+}
+
+}  // namespace
+
+JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsigned char* valid_i,
+                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options,
+                                 float* w_i, float* w_d, const JointScale& initial) {
+  return joint_weights(
+      r_i, r_d, [valid_i](std::size_t k) { return valid_i[k] != 0; },
+      [valid_d](std::size_t k) { return valid_d[k] != 0; }, n, options, w_i, w_d, initial);
+}
+
+JointScale compute_joint_weights_flagged(const float* r_i, const float* r_d, const std::uint8_t* flags,
+                                         std::size_t n, const WeightOptions& options, float* w_i, float* w_d,
+                                         const JointScale& initial) {
+  return joint_weights(
+      r_i, r_d, [flags](std::size_t k) { return (flags[k] & 1) != 0; },
+      [flags](std::size_t k) { return (flags[k] & 2) != 0; }, n, options, w_i, w_d, initial);
 }
 
 }  // namespace bivo::odometry

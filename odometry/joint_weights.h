@@ -14,6 +14,7 @@
 // a weighted sum of the paper's two objectives (docs/odometry.md, "joint": the cross term
 // is dropped; its size, the correlation rho = S_ID / sqrt(S_II S_DD), is reported).
 #include <cstddef>
+#include <cstdint>
 
 #include "odometry/robust_weights.h"
 
@@ -32,5 +33,9 @@ struct JointScale {
 JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsigned char* valid_i,
                                  const unsigned char* valid_d, std::size_t n, const WeightOptions& options,
                                  float* w_i, float* w_d, const JointScale& initial = {});
+// The same over the RGB-D problem's term buffers: flags bit 0 = r_I valid, bit 1 = r_D valid.
+JointScale compute_joint_weights_flagged(const float* r_i, const float* r_d, const std::uint8_t* flags,
+                                         std::size_t n, const WeightOptions& options, float* w_i, float* w_d,
+                                         const JointScale& initial = {});
 
 }  // namespace bivo::odometry

@@ -19,15 +19,43 @@ constexpr MethodName kMethods[] = {{Method::kSingle, "single"},   {Method::kDept
                                    {Method::kJoint, "joint"},       {Method::kScaled, "scaled"},
                                    {Method::kNoiseBounded, "noise-bounded"}};
 
-double checked(double value, const char* what, const FrameStatistics& s) {
-  if (!std::isfinite(value) || value < 0.0) {
+// The statistics a policy value came from, for messages.
+std::string statistics_text(const FrameStatistics& s) {
+  std::ostringstream m;
+  m << "pi(I) = " << s.pi_intensity << ", pi(D) = " << s.pi_depth << ", var(I) = " << s.var_intensity
+    << ", var(D) = " << s.var_depth << ", median(I) = " << s.median_intensity << ", median(D) = " << s.median_depth;
+  return m.str();
+}
+
+// value when finite and >= 0; otherwise nullopt and `why` says what and from which statistics.
+std::optional<double> defined(double value, const char* what, const FrameStatistics& s, std::string* why) {
+  if (std::isfinite(value) && value >= 0.0) return value;
+  if (why) {
     std::ostringstream m;
-    m << what << " is " << value << " (pi(I) = " << s.pi_intensity << ", pi(D) = " << s.pi_depth
-      << ", var(I) = " << s.var_intensity << ", var(D) = " << s.var_depth << ", median(I) = " << s.median_intensity
-      << ", median(D) = " << s.median_depth << ")";
-    throw Error(m.str());
+    m << what << " is " << value << " (" << statistics_text(s) << ")";
+    *why = m.str();
   }
-  return value;
+  return std::nullopt;
+}
+
+double checked(double value, const char* what, const FrameStatistics& s) {
+  std::string why;
+  if (const auto v = defined(value, what, s, &why)) return *v;
+  throw Error(why);
+}
+
+constexpr const char* kTykkalaWhat = "Tykkala's lambda |median(I)/median(D)|^2";
+constexpr const char* kAdaptiveWhat = "adaptive lambda phi gamma^2 pi(D)^2 / pi(I)^2";
+
+double tykkala_formula(const FrameStatistics& s) {
+  const double ratio = s.median_intensity / s.median_depth;
+  return ratio * ratio;
+}
+
+double adaptive_formula(const FrameStatistics& s, double phi) {
+  const double gamma = s.var_intensity / s.var_depth;
+  const double ratio = gamma * s.pi_depth / s.pi_intensity;
+  return phi * ratio * ratio;
 }
 
 }  // namespace
@@ -60,15 +88,10 @@ bool lambda_from_residuals(Method method) { return method == Method::kJoint || m
 
 std::string default_backend(Method method) { return is_bounded(method) ? "exact" : "gn"; }
 
-double tykkala_lambda(const FrameStatistics& s) {
-  const double ratio = s.median_intensity / s.median_depth;
-  return checked(ratio * ratio, "Tykkala's lambda |median(I)/median(D)|^2", s);
-}
+double tykkala_lambda(const FrameStatistics& s) { return checked(tykkala_formula(s), kTykkalaWhat, s); }
 
 double adaptive_lambda(const FrameStatistics& s, double phi) {
-  const double gamma = s.var_intensity / s.var_depth;
-  const double ratio = gamma * s.pi_depth / s.pi_intensity;
-  return checked(phi * ratio * ratio, "adaptive lambda phi gamma^2 pi(D)^2 / pi(I)^2", s);
+  return checked(adaptive_formula(s, phi), kAdaptiveWhat, s);
 }
 
 double bounded_epsilon_per_weight(const FrameStatistics& s, const PolicyParameters& p) {
@@ -76,13 +99,14 @@ double bounded_epsilon_per_weight(const FrameStatistics& s, const PolicyParamete
   return s.pi_depth <= p.delta ? p.eps_max : p.eps_min;
 }
 
-double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p) {
+std::optional<double> frame_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p,
+                                   std::string* why) {
   switch (method) {
     case Method::kSingle:
     case Method::kDepth: return 0.0;
-    case Method::kFixed: return checked(p.lambda, "fixed lambda", s);
-    case Method::kTykkala: return tykkala_lambda(s);
-    case Method::kWeighted: return adaptive_lambda(s, p.phi);
+    case Method::kFixed: return defined(p.lambda, "fixed lambda", s, why);
+    case Method::kTykkala: return defined(tykkala_formula(s), kTykkalaWhat, s, why);
+    case Method::kWeighted: return defined(adaptive_formula(s, p.phi), kAdaptiveWhat, s, why);
     case Method::kJoint:
     case Method::kScaled:
       throw Error(std::string("method '") + to_string(method) +
@@ -91,6 +115,12 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
     case Method::kNoiseBounded: break;
   }
   throw Error(std::string("method '") + to_string(method) + "' has no lambda (it bounds F_D instead)");
+}
+
+double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p) {
+  std::string why;
+  if (const auto lambda = frame_lambda(method, s, p, &why)) return *lambda;
+  throw Error(why);
 }
 
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p) {

@@ -64,10 +64,14 @@ double adaptive_lambda(const FrameStatistics& s, double phi);
 // eps_bar [m^2 per unit weight] of the bounded method.
 double bounded_epsilon_per_weight(const FrameStatistics& s, const PolicyParameters& p);
 
-// lambda of a weighted-sum method for a frame with statistics s (0 for single and depth).
-// Throws bivo::Error for bounded, or when the statistics make lambda non-finite (e.g. a
-// frame without valid depth), naming the values.
-// joint and scaled have no per-frame lambda: Error (use residual_lambda()).
+// lambda of a weighted-sum method for a frame with statistics s (0 for single and depth), or
+// nullopt when the frame's statistics leave it undefined (non-finite or negative, e.g. a
+// frame without valid depth or without texture); `why` then names the values. Throws
+// bivo::Error for bounded and noise-bounded; joint and scaled have no per-frame lambda:
+// Error too (use residual_lambda()).
+std::optional<double> frame_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p,
+                                   std::string* why = nullptr);
+// The same, throwing bivo::Error with that message when lambda is undefined.
 double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p);
 
 struct RgbdLinearizationStats;

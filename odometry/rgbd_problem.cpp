@@ -1,8 +1,11 @@
 #include "odometry/rgbd_problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "odometry/parallel_chunks.h"
+#include "odometry/rgbd_double_path.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
 
@@ -11,144 +14,62 @@ namespace {
 
 namespace se3 = solvers::se3;
 
-// Everything one term needs at one pose, in double: the Jacobians must match finite
-// differences to 1e-4, which float projection (u ~ 300, ulp ~ 3e-5 px) cannot deliver.
-struct TermWarp {
-  double r_i = 0.0, r_d = 0.0;
-  double qx = 0.0, qy = 0.0, qz = 0.0;
-  double gi_u = 0.0, gi_v = 0.0;  // fx dI_2/du, fy dI_2/dv at y
-  double gd_u = 0.0, gd_v = 0.0;  // fx dD_2/du, fy dD_2/dv at y
-  unsigned char flags = 0;        // 1: r_I valid, 2: r_D valid
-};
+ObjectiveMask both() { return {true, true}; }
+bool covers(ObjectiveMask have, ObjectiveMask want) {
+  return (have.intensity || !want.intensity) && (have.depth || !want.depth);
+}
+ObjectiveMask unite(ObjectiveMask a, ObjectiveMask b) { return {a.intensity || b.intensity, a.depth || b.depth}; }
 
-struct WarpContext {
-  double R[9], t[3];
-  double fx, fy, cx, cy;
-  int width, height;
-  const float* intensity;
-  const float* depth;
-  double occlusion_margin;
-  double min_z;
-
-  WarpContext(const Eigen::Isometry3d& T, const RgbdLevel& current, double margin) {
-    const Eigen::Matrix3d Rm = T.linear();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) R[3 * r + c] = Rm(r, c);
-      t[r] = T.translation()(r);
-    }
-    fx = current.K.fx;
-    fy = current.K.fy;
-    cx = current.K.cx;
-    cy = current.K.cy;
-    width = current.intensity.width;
-    height = current.intensity.height;
-    intensity = current.intensity.data.data();
-    depth = current.depth.data.data();
-    occlusion_margin = margin;
-    min_z = 1e-6;
+PoseF pose_of(const Eigen::VectorXd& x) {
+  const Eigen::Isometry3d T = se3::from_ambient(x);
+  PoseF p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.R[3 * r + c] = static_cast<float>(T.linear()(r, c));
+    p.t[r] = static_cast<float>(T.translation()(r));
   }
-
-  // Warp one reference point; bilinear interpolation of I_2 and D_2 with exact derivatives
-  // (within the pixel cell containing y; the interpolant is continuous, its derivative jumps
-  // across cell borders).
-  inline void warp(double px, double py, double pz, double i1, TermWarp& o) const {
-    o.flags = 0;
-    const double X = R[0] * px + R[1] * py + R[2] * pz + t[0];
-    const double Y = R[3] * px + R[4] * py + R[5] * pz + t[1];
-    const double Z = R[6] * px + R[7] * py + R[8] * pz + t[2];
-    o.qx = X;
-    o.qy = Y;
-    o.qz = Z;
-    if (!(Z > min_z)) return;
-    const double iz = 1.0 / Z;
-    const double u = fx * X * iz + cx;
-    const double v = fy * Y * iz + cy;
-    if (!(u >= 0.0 && v >= 0.0 && u < width - 1 && v < height - 1)) return;
-    const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
-    const double a = u - x0, b = v - y0;
-    const std::size_t k = static_cast<std::size_t>(y0) * width + x0;
-    const double i00 = intensity[k], i10 = intensity[k + 1];
-    const double i01 = intensity[k + width], i11 = intensity[k + width + 1];
-    const double d00 = depth[k], d10 = depth[k + 1];
-    const double d01 = depth[k + width], d11 = depth[k + width + 1];
-    const bool depth_ok = d00 > 0.0 && d10 > 0.0 && d01 > 0.0 && d11 > 0.0;
-    if (depth_ok) {
-      const double d2 = (1 - b) * ((1 - a) * d00 + a * d10) + b * ((1 - a) * d01 + a * d11);
-      if (Z > d2 + occlusion_margin) return;  // occluded in frame 2: neither residual is meaningful
-      o.r_d = d2 - Z;
-      o.gd_u = fx * ((1 - b) * (d10 - d00) + b * (d11 - d01));
-      o.gd_v = fy * ((1 - a) * (d01 - d00) + a * (d11 - d10));
-      o.flags |= 2;
-    }
-    const double i2 = (1 - b) * ((1 - a) * i00 + a * i10) + b * ((1 - a) * i01 + a * i11);
-    o.r_i = i2 - i1;
-    o.gi_u = fx * ((1 - b) * (i10 - i00) + b * (i11 - i01));
-    o.gi_v = fy * ((1 - a) * (i01 - i00) + a * (i11 - i10));
-    o.flags |= 1;
-  }
-};
-
-// Jacobian row J = [c, q x c] of a residual whose image-space gradient (times focal
-// lengths) is (gu, gv); minus_z subtracts d[q]_z/dq = e_z (the r_D term).
-inline void jacobian_row(double qx, double qy, double qz, double gu, double gv, bool minus_z, double J[6]) {
-  const double iz = 1.0 / qz;
-  const double c0 = gu * iz, c1 = gv * iz;
-  double c2 = -(gu * qx + gv * qy) * iz * iz;
-  if (minus_z) c2 -= 1.0;
-  J[0] = c0;
-  J[1] = c1;
-  J[2] = c2;
-  J[3] = qy * c2 - qz * c1;
-  J[4] = qz * c0 - qx * c2;
-  J[5] = qx * c1 - qy * c0;
+  return p;
 }
 
-// Running sums of one objective's quadratic model a = sum w r^2, b = sum w r J,
-// H = sum w J J^T (a in double, term by term). Terms are gathered as columns sqrt(w) J into a float block and folded in
-// with one vectorized 6 x B times B x 6 product per block (instead of 27 scalar
-// multiply-adds per term); block sums are accumulated in double.
-struct ModelAccumulator {
-  static constexpr int kBlock = 512;
-  Eigen::Matrix<float, 6, kBlock> J;
-  Eigen::Matrix<float, kBlock, 1> r;
-  int fill = 0;
-  double a = 0.0;
-  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+solvers::QuadraticModel model_of(const GramSums& g) {
+  solvers::QuadraticModel m;
+  m.H.resize(6, 6);
+  m.b.resize(6);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j <= i; ++j) m.H(i, j) = m.H(j, i) = g.g[i * (i + 1) / 2 + j];
+    m.b(i) = g.g[21 + i];
+  }
+  m.a = g.g[27];
+  return m;
+}
 
-  inline void add(const double Jrow[6], double residual, double w) {
-    a += w * residual * residual;  // in double: a must equal evaluate() at the same x
-    const double s = std::sqrt(w);
-    float* col = J.col(fill).data();
-    for (int i = 0; i < 6; ++i) col[i] = static_cast<float>(s * Jrow[i]);
-    r(fill) = static_cast<float>(s * residual);
-    if (++fill == kBlock) flush();
-  }
-  void flush() {
-    if (fill == 0) return;
-    const auto Jb = J.leftCols(fill);
-    const auto rb = r.head(fill);
-    Eigen::Matrix<float, 6, 6> h = Eigen::Matrix<float, 6, 6>::Zero();
-    h.selfadjointView<Eigen::Lower>().rankUpdate(Jb);
-    H += h.selfadjointView<Eigen::Lower>().toDenseMatrix().cast<double>();
-    b += (Jb * rb).cast<double>();
-    fill = 0;
-  }
-  solvers::QuadraticModel model() {
-    flush();
-    solvers::QuadraticModel m;
-    m.a = a;
-    m.b = b;
-    m.H = H;
-    return m;
-  }
-};
+solvers::QuadraticModel zero_model() {
+  solvers::QuadraticModel m;
+  m.b = Eigen::VectorXd::Zero(6);
+  m.H = Eigen::MatrixXd::Zero(6, 6);
+  return m;
+}
 
 }  // namespace
 
+JacobianKind parse_jacobian_kind(const std::string& name) {
+  if (name == "forward") return JacobianKind::kForward;
+  if (name == "inverse") return JacobianKind::kInverse;
+  if (name == "esm") return JacobianKind::kEsm;
+  throw Error("unknown Jacobian kind '" + name + "' (valid: forward, inverse, esm)");
+}
+
+const char* to_string(JacobianKind kind) {
+  switch (kind) {
+    case JacobianKind::kForward: return "forward";
+    case JacobianKind::kInverse: return "inverse";
+    case JacobianKind::kEsm: return "esm";
+  }
+  return "?";
+}
+
 RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdLevel& current,
                                          RgbdProblemOptions options)
-    : reference_(&reference), current_(&current), options_(options) {
+    : reference_(&reference), current_(&current), options_(options), kernels_(&default_kernels()) {
   const auto& ri = reference.intensity;
   const auto& rd = reference.depth;
   const auto& ci = current.intensity;
@@ -169,41 +90,24 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
     throw Error("RGB-D problem: depth range [" + std::to_string(options_.min_depth) + ", " +
                 std::to_string(options_.max_depth) + "] is empty or not positive");
   }
-  // Back-project the reference once per (pair, level): the per-iteration loop then only
-  // transforms, projects and interpolates.
-  const io::Intrinsics& K = reference.K;
-  const double ifx = 1.0 / K.fx, ify = 1.0 / K.fy;
-  const std::size_t reserve = static_cast<std::size_t>(ri.width) * ri.height;
-  px_.reserve(reserve);
-  py_.reserve(reserve);
-  pz_.reserve(reserve);
-  i1_.reserve(reserve);
-  for (int y = 0; y < ri.height; ++y) {
-    for (int x = 0; x < ri.width; ++x) {
-      const double z = rd.at(x, y);
-      if (!(z >= options_.min_depth && z <= options_.max_depth)) continue;
-      px_.push_back(static_cast<float>((x - K.cx) * ifx * z));
-      py_.push_back(static_cast<float>((y - K.cy) * ify * z));
-      pz_.push_back(static_cast<float>(z));
-      i1_.push_back(ri.at(x, y));
-    }
+  if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
+  gradients_ = options_.jacobian == JacobianKind::kForward   ? GradientSource::kCurrent
+               : options_.jacobian == JacobianKind::kInverse ? GradientSource::kReference
+                                                             : GradientSource::kAverage;
+  // Everything that does not depend on the pose, once per (pair, level): the iterations then
+  // only transform, project, interpolate and accumulate.
+  reference_terms_ = make_reference_terms(reference, options_.min_depth, options_.max_depth,
+                                          gradients_ != GradientSource::kCurrent);
+  if (current.intensity_depth.size() == 2 * ci.data.size()) {
+    cells_ = current.intensity_depth.data();
+  } else {
+    own_cells_ = interleave_intensity_depth(current);
+    cells_ = own_cells_.data();
   }
-  const std::size_t n = px_.size();
-  r_i_.assign(n, 0.0f);
-  r_d_.assign(n, 0.0f);
+  const std::size_t n = padded_terms(reference_terms_.count);
+  for (auto* v : {&r_i_, &r_d_, &gi_u_, &gi_v_, &gd_u_, &gd_v_, &w_i_, &w_d_}) v->assign(n, 0.0f);
   flags_.assign(n, 0);
-  valid_i_.assign(n, 0);
-  valid_d_.assign(n, 0);
-  qx_.assign(n, 0.0f);
-  qy_.assign(n, 0.0f);
-  qz_.assign(n, 0.0f);
-  gi_u_.assign(n, 0.0f);
-  gi_v_.assign(n, 0.0f);
-  gd_u_.assign(n, 0.0f);
-  gd_v_.assign(n, 0.0f);
-  w_i_.assign(n, 0.0f);
-  w_d_.assign(n, 0.0f);
-  stats_.terms = static_cast<int>(n);
+  stats_.terms = num_terms();
 }
 
 std::string RgbdOdometryProblem::name() const {
@@ -212,129 +116,181 @@ std::string RgbdOdometryProblem::name() const {
          std::to_string(im.height) + (options_.depth_first ? ", F_1 = F_D" : "") + ")";
 }
 
+void RgbdOdometryProblem::set_kernel_isa(KernelIsa isa) {
+  kernels_ = &kernels(isa);
+  warp_x_.resize(0);  // nothing cached was computed by these kernels
+  f_at_warp_.reset();
+  last_linearization_.reset();
+}
+
 void RgbdOdometryProblem::check_x(const Eigen::VectorXd& x) const {
   if (x.size() != 7) throw Error("RGB-D problem: x must be the 7-vector [t; q], got size " + std::to_string(x.size()));
   if (!x.allFinite()) throw Error("RGB-D problem: x contains NaN or Inf");
   if (x.tail<4>().norm() < 1e-12) throw Error("RGB-D problem: quaternion of x has zero norm");
 }
 
-void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x) {
+ObjectiveMask RgbdOdometryProblem::modelled() const {
+  if (options_.model_f2) return both();
+  return options_.depth_first ? ObjectiveMask{false, true} : ObjectiveMask{true, false};
+}
+
+TermBuffers RgbdOdometryProblem::buffers() {
+  TermBuffers b;
+  b.r_i = r_i_.data();
+  b.r_d = r_d_.data();
+  b.gi_u = gi_u_.data();
+  b.gi_v = gi_v_.data();
+  b.gd_u = gd_u_.data();
+  b.gd_v = gd_v_.data();
+  b.flags = flags_.data();
+  b.w_i = w_i_.data();
+  b.w_d = w_d_.data();
+  return b;
+}
+
+WarpParams RgbdOdometryProblem::warp_params(const Eigen::VectorXd& x, ObjectiveMask mask) const {
+  WarpParams p;
+  p.pose = pose_of(x);
+  p.fx = static_cast<float>(current_->K.fx);
+  p.fy = static_cast<float>(current_->K.fy);
+  p.cx = static_cast<float>(current_->K.cx);
+  p.cy = static_cast<float>(current_->K.cy);
+  p.width = current_->intensity.width;
+  p.height = current_->intensity.height;
+  p.cells = cells_;
+  p.occlusion_margin = static_cast<float>(options_.occlusion_margin);
+  p.objectives = mask;
+  p.gradients = gradients_;
+  return p;
+}
+
+void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask, bool weighted_sums) {
   check_x(x);
-  if (cached_x_.size() == x.size() && cached_x_ == x) return;
-  cached_x_.resize(0);
-  const WarpContext ctx(se3::from_ambient(x), *current_, options_.occlusion_margin);
-  const std::size_t n = px_.size();
-  TermWarp w;
-  for (std::size_t i = 0; i < n; ++i) {
-    ctx.warp(px_[i], py_[i], pz_[i], i1_[i], w);
-    flags_[i] = w.flags;
-    valid_i_[i] = w.flags & kValidI;
-    valid_d_[i] = (w.flags & kValidD) ? 1 : 0;
-    r_i_[i] = (w.flags & kValidI) ? static_cast<float>(w.r_i) : 0.0f;
-    r_d_[i] = (w.flags & kValidD) ? static_cast<float>(w.r_d) : 0.0f;
-    qx_[i] = static_cast<float>(w.qx);
-    qy_[i] = static_cast<float>(w.qy);
-    qz_[i] = static_cast<float>(w.qz);
-    gi_u_[i] = static_cast<float>(w.gi_u);
-    gi_v_[i] = static_cast<float>(w.gi_v);
-    gd_u_[i] = static_cast<float>(w.gd_u);
-    gd_v_[i] = static_cast<float>(w.gd_v);
-  }
-  cached_x_ = x;
+  if (warp_x_.size() == x.size() && warp_x_ == x && covers(warp_mask_, mask)) return;
+  warp_x_.resize(0);
+  f_at_warp_.reset();
+  last_linearization_.reset();
+  WarpParams p = warp_params(x, mask);
+  p.weighted_sums = weighted_sums;
+  const ReferenceArrays ref = reference_terms_.view();
+  const TermBuffers buf = buffers();
+  warp_sums_ = sum_over_chunks<WarpSums>(r_i_.size(), kChunkTerms, options_.threads,
+                                         [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  warp_sums_weighted_ = weighted_sums;
+  warp_mask_ = mask;
+  warp_x_ = x;
 }
 
-void RgbdOdometryProblem::ensure_weights(const Eigen::VectorXd& x) {
-  if (have_weights_) return;
-  warp_all(x);
-  estimate_weights(false);
-}
-
-void RgbdOdometryProblem::estimate_weights(bool warm_start) {
-  const std::size_t n = px_.size();
-  if (options_.joint_weights) {
-    stats_.joint_scale = compute_joint_weights(r_i_.data(), r_d_.data(), valid_i_.data(), valid_d_.data(), n,
-                                               options_.weights, w_i_.data(), w_d_.data(),
-                                               warm_start ? stats_.joint_scale : JointScale{});
+void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& at) {
+  last_linearization_.reset();
+  const std::size_t n = reference_terms_.count;
+  if (options_.joint_weights && mask.intensity && mask.depth) {
+    // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
+    // written to the buffers here; the kernels then apply them as stored weights.
+    stats_.joint_scale = compute_joint_weights_flagged(r_i_.data(), r_d_.data(), flags_.data(), n, options_.weights,
+                                                       w_i_.data(), w_d_.data(), stats_.joint_scale);
     stats_.sigma_intensity = std::sqrt(stats_.joint_scale.s_ii);
     stats_.sigma_depth = std::sqrt(stats_.joint_scale.s_dd);
-  } else {
-    stats_.sigma_intensity = compute_weights(r_i_.data(), valid_i_.data(), n, options_.weights, w_i_.data(),
-                                             warm_start ? stats_.sigma_intensity : 0.0);
-    stats_.sigma_depth = compute_weights(r_d_.data(), valid_d_.data(), n, options_.weights, w_d_.data(),
-                                         warm_start ? stats_.sigma_depth : 0.0);
+    model_.kind = WeightModel::kStored;
+    return;
   }
-  have_weights_ = true;
+  if (mask.intensity) {
+    const ResidualSet set{r_i_.data(), flags_.data(), 1, at.valid_i, at.ss_i};
+    // Warm start: the scale changes little between the iterations of one problem.
+    stats_.sigma_intensity =
+        estimate_scale(set, n, options_.weights, stats_.sigma_intensity, *kernels_, options_.threads);
+  }
+  if (mask.depth) {
+    const ResidualSet set{r_d_.data(), flags_.data(), 2, at.valid_d, at.ss_d};
+    stats_.sigma_depth = estimate_scale(set, n, options_.weights, stats_.sigma_depth, *kernels_, options_.threads);
+  }
+  const WeightModel fresh = weight_model(options_.weights, stats_.sigma_intensity, stats_.sigma_depth);
+  model_.kind = fresh.kind;
+  if (mask.intensity) model_.intensity = fresh.intensity;
+  if (mask.depth) model_.depth = fresh.depth;
+}
+
+void RgbdOdometryProblem::ensure_weights(const Eigen::VectorXd& x, ObjectiveMask mask) {
+  if (options_.joint_weights) mask = both();  // one weight from both residuals
+  const ObjectiveMask missing{mask.intensity && !weights_mask_.intensity, mask.depth && !weights_mask_.depth};
+  if (!missing.intensity && !missing.depth) return;
+  warp_all(x, unite(mask, warp_x_.size() == x.size() && warp_x_ == x ? warp_mask_ : mask), false);
+  estimate_weights(missing, warp_sums_);
+  const TermBuffers buf = buffers();
+  const WeightModel m = model_;
+  sum_over_chunks<WeighSums>(r_i_.size(), kChunkTerms, options_.threads,
+                             [&](std::size_t b, std::size_t e) { return kernels_->weigh(m, missing, buf, b, e); });
+  weights_mask_ = unite(weights_mask_, missing);
+  f_at_warp_.reset();
+  warp_sums_weighted_ = false;
 }
 
 solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
                                                       const solvers::LinearizeOptions& options) {
-  const std::size_t n = px_.size();
+  const ObjectiveMask mask = modelled();
+  check_x(x);
+  if (last_linearization_ && !options.want_full && warp_x_.size() == x.size() && warp_x_ == x &&
+      covers(warp_mask_, mask)) {
+    return *last_linearization_;
+  }
   {
     solvers::ScopedPhase phase(options.profile, "residuals");
-    warp_all(x);
+    warp_all(x, mask, false);
   }
+  WeightModel model;
   {
     solvers::ScopedPhase phase(options.profile, "weights");
-    if (options.update_weights || !have_weights_) {
-      // Warm start: the scale changes little between the iterations of one problem.
-      estimate_weights(true);
+    if (options.update_weights || !covers(weights_mask_, mask)) {
+      estimate_weights(mask, warp_sums_);
+      model = model_;
+    } else {
+      model.kind = WeightModel::kStored;
     }
   }
-
-  solvers::Linearization lin;
-  ModelAccumulator acc_i, acc_d;
-  solvers::ResidualData full_i, full_d;
+  NormalSums sums;
   {
+    // Weights applied, Jacobians built and H, b, a accumulated in one pass.
     solvers::ScopedPhase phase(options.profile, "normal_equations");
-    if (options.want_full) {
-      for (auto* f : {&full_i, &full_d}) {
-        f->r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-        f->J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), 6);
-        f->w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-      }
-    }
-    int valid_i = 0, valid_d = 0;
-    double wsum_i = 0.0, wsum_d = 0.0;
-    double J[6];
-    for (std::size_t k = 0; k < n; ++k) {
-      const unsigned char f = flags_[k];
-      if (!f) continue;
-      const double qx = qx_[k], qy = qy_[k], qz = qz_[k];
-      // A term invalid at x has weight 0 in evaluate(), so its weight must be 0 here too;
-      // weights kept from an earlier x (update_weights = false) follow the same rule.
-      if (f & kValidI) {
-        ++valid_i;
-        const double w = w_i_[k];
-        wsum_i += w;
-        jacobian_row(qx, qy, qz, gi_u_[k], gi_v_[k], false, J);
-        acc_i.add(J, r_i_[k], w);
-        if (options.want_full) {
-          full_i.r(k) = r_i_[k];
-          full_i.w(k) = w;
-          for (int c = 0; c < 6; ++c) full_i.J(k, c) = J[c];
-        }
-      }
-      if (f & kValidD) {
-        ++valid_d;
-        const double w = w_d_[k];
-        wsum_d += w;
-        jacobian_row(qx, qy, qz, gd_u_[k], gd_v_[k], true, J);
-        acc_d.add(J, r_d_[k], w);
-        if (options.want_full) {
-          full_d.r(k) = r_d_[k];
-          full_d.w(k) = w;
-          for (int c = 0; c < 6; ++c) full_d.J(k, c) = J[c];
-        }
-      }
-    }
-    stats_.valid_intensity = valid_i;
-    stats_.valid_depth = valid_d;
-    stats_.weight_sum_intensity = wsum_i;
-    stats_.weight_sum_depth = wsum_d;
+    NormalParams p;
+    p.pose = pose_of(x);
+    p.objectives = mask;
+    const bool reference_g = gradients_ == GradientSource::kReference;
+    p.gi_u = reference_g ? reference_terms_.gi_u.data() : gi_u_.data();
+    p.gi_v = reference_g ? reference_terms_.gi_v.data() : gi_v_.data();
+    p.gd_u = reference_g ? reference_terms_.gd_u.data() : gd_u_.data();
+    p.gd_v = reference_g ? reference_terms_.gd_v.data() : gd_v_.data();
+    const ReferenceArrays ref = reference_terms_.view();
+    const TermBuffers buf = buffers();
+    sums = sum_over_chunks<NormalSums>(r_i_.size(), kChunkTerms, options_.threads, [&](std::size_t b, std::size_t e) {
+      return kernels_->normal_equations(p, model, ref, buf, b, e);
+    });
   }
-  solvers::QuadraticModel mi = acc_i.model(), md = acc_d.model();
+  weights_mask_ = unite(weights_mask_, mask);
+  solvers::QuadraticModel mi = mask.intensity ? model_of(sums.intensity) : zero_model();
+  solvers::QuadraticModel md = mask.depth ? model_of(sums.depth) : zero_model();
+  stats_.valid_intensity = static_cast<int>(warp_sums_.valid_i);
+  stats_.valid_depth = static_cast<int>(warp_sums_.valid_d);
+  stats_.weight_sum_intensity = sums.intensity.weight_sum;
+  stats_.weight_sum_depth = sums.depth.weight_sum;
   stats_.f_intensity = mi.a;
   stats_.f_depth = md.a;
+  f_at_warp_ = std::array<double, 2>{mi.a, md.a};
+
+  solvers::Linearization lin;
+  if (options.want_full) {
+    solvers::ScopedPhase phase(options.profile, "normal_equations");
+    const Eigen::Isometry3d T = se3::from_ambient(x);
+    const DoublePathOptions dp{options_.occlusion_margin, gradients_};
+    const auto full = [&](bool depth, bool modelled) {
+      if (modelled) return double_residuals(reference_terms_, *current_, T, depth, true, (depth ? w_d_ : w_i_).data(), dp);
+      const Eigen::Index n = num_terms();
+      return solvers::ResidualData{Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Zero(n, 6), Eigen::VectorXd::Zero(n)};
+    };
+    solvers::ResidualData fi = full(false, mask.intensity), fd = full(true, mask.depth);
+    if (options_.depth_first) std::swap(fi, fd);
+    lin.full1 = std::move(fi);
+    lin.full2 = std::move(fd);
+  }
   if (options_.depth_first) {
     lin.f1 = std::move(md);
     lin.f2 = std::move(mi);
@@ -342,24 +298,30 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
     lin.f1 = std::move(mi);
     lin.f2 = std::move(md);
   }
-  if (options.want_full) {
-    if (options_.depth_first) std::swap(full_i, full_d);
-    lin.full1 = std::move(full_i);
-    lin.full2 = std::move(full_d);
-  }
+  if (!options.want_full) last_linearization_ = lin;
   return lin;
 }
 
 std::array<double, 2> RgbdOdometryProblem::evaluate_intensity_depth(const Eigen::VectorXd& x) {
-  ensure_weights(x);
-  warp_all(x);
-  double fi = 0.0, fd = 0.0;
-  const std::size_t n = px_.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    fi += double(w_i_[k]) * r_i_[k] * r_i_[k];
-    fd += double(w_d_[k]) * r_d_[k] * r_d_[k];
+  const ObjectiveMask mask = modelled();
+  check_x(x);
+  ensure_weights(x, mask);
+  const bool cached = warp_x_.size() == x.size() && warp_x_ == x && covers(warp_mask_, mask);
+  if (cached && f_at_warp_) return *f_at_warp_;
+  if (cached && warp_sums_weighted_) return {warp_sums_.f_i, warp_sums_.f_d};
+  if (!cached) {
+    // The warp at a new x sums F under the stored weights in the same pass.
+    warp_all(x, mask, true);
+    return {warp_sums_.f_i, warp_sums_.f_d};
   }
-  return {fi, fd};
+  WeightModel stored;
+  stored.kind = WeightModel::kStored;
+  const TermBuffers buf = buffers();
+  const WeighSums s = sum_over_chunks<WeighSums>(
+      r_i_.size(), kChunkTerms, options_.threads,
+      [&](std::size_t b, std::size_t e) { return kernels_->weigh(stored, mask, buf, b, e); });
+  f_at_warp_ = std::array<double, 2>{s.f_i, s.f_d};
+  return *f_at_warp_;
 }
 
 std::array<double, 2> RgbdOdometryProblem::evaluate(const Eigen::VectorXd& x) {
@@ -368,36 +330,67 @@ std::array<double, 2> RgbdOdometryProblem::evaluate(const Eigen::VectorXd& x) {
   return f;
 }
 
+std::array<double, 2> RgbdOdometryProblem::objectives_at(const Eigen::VectorXd& x, solvers::PhaseProfile* profile) {
+  {
+    solvers::ScopedPhase phase(profile, "residuals");
+    warp_all(x, both(), false);
+  }
+  solvers::ScopedPhase phase(profile, "weights");
+  estimate_weights(both(), warp_sums_);
+  const TermBuffers buf = buffers();
+  const WeightModel m = model_;
+  const WeighSums s = sum_over_chunks<WeighSums>(
+      r_i_.size(), kChunkTerms, options_.threads,
+      [&](std::size_t b, std::size_t e) { return kernels_->weigh(m, both(), buf, b, e); });
+  weights_mask_ = both();
+  stats_.valid_intensity = static_cast<int>(warp_sums_.valid_i);
+  stats_.valid_depth = static_cast<int>(warp_sums_.valid_d);
+  stats_.weight_sum_intensity = s.weight_sum_i;
+  stats_.weight_sum_depth = s.weight_sum_d;
+  stats_.f_intensity = s.f_i;
+  stats_.f_depth = s.f_d;
+  // The model's F_2 = 0 convention for a one-objective problem stays with evaluate().
+  f_at_warp_.reset();
+  warp_sums_weighted_ = false;
+  return {s.f_i, s.f_d};
+}
+
+double RgbdOdometryProblem::pixel_motion(const Eigen::VectorXd& x, const Eigen::VectorXd& delta) {
+  check_x(x);
+  if (delta.size() != 6) throw Error("RGB-D problem: a step has 6 entries, got " + std::to_string(delta.size()));
+  if (!motion_metric_) {
+    const Eigen::Isometry3d T = se3::from_ambient(x);
+    const double fx = current_->K.fx, fy = current_->K.fy;
+    const ReferenceTerms& ref = reference_terms_;
+    const std::size_t stride = std::max<std::size_t>(1, ref.count / 4096);
+    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+    int samples = 0;
+    for (std::size_t k = 0; k < ref.count; k += stride) {
+      const Eigen::Vector3d q = T * Eigen::Vector3d(ref.x[k], ref.y[k], ref.z[k]);
+      if (!(q.z() > 1e-6)) continue;
+      const double iz = 1.0 / q.z();
+      // d y / d delta = (d y / d q) [I, -q^]; each row is [c, q x c] with c = d y_row / d q.
+      for (const Eigen::Vector3d& c : {Eigen::Vector3d(fx * iz, 0.0, -fx * q.x() * iz * iz),
+                                       Eigen::Vector3d(0.0, fy * iz, -fy * q.y() * iz * iz)}) {
+        Eigen::Matrix<double, 6, 1> row;
+        row << c, q.cross(c);
+        M.noalias() += row * row.transpose();
+      }
+      ++samples;
+    }
+    motion_metric_ = samples > 0 ? M / samples : M;
+  }
+  return std::sqrt(std::max(0.0, delta.dot(*motion_metric_ * delta)));
+}
+
 solvers::ResidualData RgbdOdometryProblem::residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) {
   if (j != 1 && j != 2) throw Error("RGB-D problem: objective index must be 1 or 2, got " + std::to_string(j));
   check_x(x);
-  ensure_weights(x);
   const bool depth = (j == 2) != options_.depth_first;
-  const WarpContext ctx(se3::from_ambient(x), *current_, options_.occlusion_margin);
-  const std::size_t n = px_.size();
-  solvers::ResidualData out;
-  out.r = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-  out.w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-  if (with_jacobian) out.J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), 6);
-  const std::vector<float>& weights = depth ? w_d_ : w_i_;
-  const unsigned char need = depth ? kValidD : kValidI;
-  TermWarp w;
-  double J[6];
-  for (std::size_t k = 0; k < n; ++k) {
-    out.w(k) = weights[k];
-    ctx.warp(px_[k], py_[k], pz_[k], i1_[k], w);
-    if (!(w.flags & need)) continue;
-    out.r(k) = depth ? w.r_d : w.r_i;
-    if (with_jacobian) {
-      if (depth) {
-        jacobian_row(w.qx, w.qy, w.qz, w.gd_u, w.gd_v, true, J);
-      } else {
-        jacobian_row(w.qx, w.qy, w.qz, w.gi_u, w.gi_v, false, J);
-      }
-      for (int c = 0; c < 6; ++c) out.J(k, c) = J[c];
-    }
-  }
-  return out;
+  ensure_weights(x, depth ? ObjectiveMask{false, true} : ObjectiveMask{true, false});
+  const DoublePathOptions dp{options_.occlusion_margin, gradients_};
+  return double_residuals(reference_terms_, *current_, se3::from_ambient(x), depth, with_jacobian,
+                          (depth ? w_d_ : w_i_).data(), dp);
 }
 
 }  // namespace bivo::odometry

@@ -12,20 +12,32 @@
 // of these residuals for the left perturbation x (+) d = exp(d) T_21, d = [v; w]:
 //   d q / d d = [I, -q^],  J = c^T [I, -q^] = [c, q x c]  with c = (dr/dy)(dy/dq) (- e_z for r_D).
 //
-// linearize() accumulates a, b, H pixel by pixel (no n x 6 storage) and re-estimates the
-// robust weights (robust_weights.h) from the residuals at x; full J / r / w on request.
-// The reference and current levels must outlive the problem.
+// Two implementations of the same formulas: linearize() / evaluate() run the float SIMD
+// kernels over structure-of-arrays buffers (rgbd_kernels.h; pose-independent data once per
+// level, reference_terms.h), residuals() and the full data of want_full the double path
+// (rgbd_double_path.h) that the finite-difference tests check. The reference and current
+// levels must outlive the problem.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry/joint_weights.h"
+#include "odometry/reference_terms.h"
+#include "odometry/rgbd_kernels.h"
 #include "odometry/robust_weights.h"
 #include "odometry/rgbd_pyramid.h"
 #include "solvers/manifold.h"
 #include "solvers/problem.h"
 
 namespace bivo::odometry {
+
+// Which image gradients the Jacobians use: "forward" (the current image at y_i, exact),
+// "inverse" (the reference image at x_i, precomputed per level: inverse-compositional
+// style), "esm" (their mean, Benhimane and Malis 2004).
+enum class JacobianKind { kForward, kInverse, kEsm };
+JacobianKind parse_jacobian_kind(const std::string& name);  // unknown -> bivo::Error listing the valid ones
+const char* to_string(JacobianKind kind);
 
 struct RgbdProblemOptions {
   WeightOptions weights;
@@ -38,6 +50,11 @@ struct RgbdProblemOptions {
   // true: ONE weight per pixel for (r_I, r_D) from the bivariate t-distribution with scale
   // matrix S (joint_weights.h; method "joint") instead of two independent weightings.
   bool joint_weights = false;
+  // false: linearize() and evaluate() build F_1 only and report F_2 = 0 with a zero model
+  // (methods with lambda = 0); objectives_at() still gives both.
+  bool model_f2 = true;
+  JacobianKind jacobian = JacobianKind::kForward;
+  int threads = 1;                 // per-pixel passes; results are identical for every count
 };
 
 // What the latest linearize() saw (weights and scale are those of that call).
@@ -47,8 +64,8 @@ struct RgbdLinearizationStats {
   int valid_depth = 0;         // terms with a valid r_D at x
   double sigma_intensity = 0.0, sigma_depth = 0.0;          // robust scales
   double weight_sum_intensity = 0.0, weight_sum_depth = 0.0;  // trace of Omega_I, Omega_D
-  double f_intensity = 0.0, f_depth = 0.0;                  // F_I, F_D at x
   JointScale joint_scale;      // options.joint_weights: the scale matrix S (else zero)
+  double f_intensity = 0.0, f_depth = 0.0;                  // F_I, F_D at x (0 when not modelled)
 };
 
 class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
@@ -61,7 +78,7 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   std::array<double, 2> evaluate(const Eigen::VectorXd& x) override;
   solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) override;
 
-  int num_terms() const { return static_cast<int>(px_.size()); }
+  int num_terms() const { return static_cast<int>(reference_terms_.count); }
   const RgbdLinearizationStats& last_stats() const { return stats_; }
   const RgbdProblemOptions& options() const { return options_; }
   const RgbdLevel& reference() const { return *reference_; }
@@ -69,36 +86,59 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // F_I and F_D (in the paper's order, whatever depth_first says) at x with the latest
   // weights; weights are estimated at x first when linearize() was never called.
   std::array<double, 2> evaluate_intensity_depth(const Eigen::VectorXd& x);
+  // F_I and F_D at x with both objectives' weights estimated at x, whatever model_f2 says
+  // (what a one-objective method reports for the objective it did not optimize). The
+  // problem's state is left at x with these weights. `profile` may be null.
+  std::array<double, 2> objectives_at(const Eigen::VectorXd& x, solvers::PhaseProfile* profile = nullptr);
+  // RMS motion in pixels of the reference points' projections that the tangent step delta
+  // causes at x (first order; a fixed sample of at most 4096 terms, metric taken at the
+  // first x asked): what the tracker's stopping rule compares with a fraction of a pixel.
+  double pixel_motion(const Eigen::VectorXd& x, const Eigen::VectorXd& delta);
+  // The instruction set of the float kernels (default: the best this CPU runs).
+  KernelIsa kernel_isa() const { return kernels_->isa; }
+  void set_kernel_isa(KernelIsa isa);
 
  private:
-  enum : unsigned char { kValidI = 1, kValidD = 2 };
-  // Warps every term with T_21 = x: fills r_i_, r_d_, flags_, the warped points and the
-  // interpolation gradients used by the Jacobians (a no-op when x is the cached x).
-  void warp_all(const Eigen::VectorXd& x);
-  void ensure_weights(const Eigen::VectorXd& x);
-  // The weight stage: Omega_I, Omega_D from the residuals of the latest warp (warm-started
-  // from the previous scales when warm_start).
-  void estimate_weights(bool warm_start);
+  ObjectiveMask modelled() const;
+  // Warps every term with T_21 = x (objectives `mask`): residuals, gradients, flags; with
+  // weighted_sums also F_j under the stored weights. A no-op when x and mask are cached.
+  void warp_all(const Eigen::VectorXd& x, ObjectiveMask mask, bool weighted_sums);
+  // Scales of the objectives in `mask` from the residuals in the buffers -> model_.
+  void estimate_weights(ObjectiveMask mask, const WarpSums& at);
+  // Weights of the objectives in `mask` estimated at x unless some already exist.
+  void ensure_weights(const Eigen::VectorXd& x, ObjectiveMask mask);
   void check_x(const Eigen::VectorXd& x) const;
+  TermBuffers buffers();
+  WarpParams warp_params(const Eigen::VectorXd& x, ObjectiveMask mask) const;
 
   const RgbdLevel* reference_;
   const RgbdLevel* current_;
   RgbdProblemOptions options_;
   solvers::Se3Manifold manifold_;
+  const KernelTable* kernels_;
+  GradientSource gradients_;
 
-  // Reference terms (structure of arrays): back-projected point and intensity.
-  std::vector<float> px_, py_, pz_, i1_;
-  // Per-term state at the latest warp.
-  std::vector<float> r_i_, r_d_;
-  std::vector<unsigned char> flags_, valid_i_, valid_d_;
-  std::vector<float> qx_, qy_, qz_;          // warped points (cached for Jacobians)
-  std::vector<float> gi_u_, gi_v_, gd_u_, gd_v_;  // dI_2/du * fx etc. at y_i
-  // Weights of the latest linearize().
-  std::vector<float> w_i_, w_d_;
-  bool have_weights_ = false;
-  // x of the latest warp_all(x): the outer loop evaluates x_new and then linearizes
-  // at the same x_new, which then reuses the warp instead of repeating it.
-  Eigen::VectorXd cached_x_;
+  ReferenceTerms reference_terms_;
+  std::vector<float> own_cells_;  // the current level interleaved, when the level has none
+  const float* cells_ = nullptr;
+  // Per-term state at the latest warp (padded_terms(count) entries each).
+  std::vector<float> r_i_, r_d_, gi_u_, gi_v_, gd_u_, gd_v_, w_i_, w_d_;
+  std::vector<std::uint8_t> flags_;
+  ObjectiveMask weights_mask_{false, false};  // objectives whose weights the buffers hold
+  WeightModel model_;                          // as of the latest estimate_weights()
+  // The latest warp: at which x, for which objectives, and its sums.
+  Eigen::VectorXd warp_x_;
+  ObjectiveMask warp_mask_{false, false};
+  WarpSums warp_sums_;
+  bool warp_sums_weighted_ = false;  // warp_sums_.f_* are F under the current weights
+  // F under the current weights at warp_x_ as of the latest linearize() there.
+  std::optional<std::array<double, 2>> f_at_warp_;
+  // The latest linearize() (without full data) while its x and weights are current: a
+  // solve that starts where the previous one ended (warm-started Pareto points) gets it back
+  // instead of re-estimating the same weights from the same residuals.
+  std::optional<solvers::Linearization> last_linearization_;
+  // pixel_motion(): mean of J_y^T J_y over the sample, J_y = d y / d delta (2 x 6).
+  std::optional<Eigen::Matrix<double, 6, 6>> motion_metric_;
   RgbdLinearizationStats stats_;
 };
 

@@ -1,51 +1,71 @@
 #include "odometry/rgbd_pyramid.h"
 
+#include <algorithm>
 #include <string>
 
+#include "odometry/parallel_chunks.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {
 
 namespace {
 
-// Half resolution, each coarse pixel reduce(a, b, c, d) of its 2x2 fine block (row-major).
+constexpr int kRowsPerChunk = 16;
+
+// Half resolution, each coarse pixel reduce(a, b, c, d) of its 2x2 fine block (row-major),
+// rows [y0, y1) of the coarse image.
 template <typename Reduce>
-ImageF downsample(const ImageF& fine, Reduce reduce) {
-  ImageF c;
-  c.width = fine.width / 2;
-  c.height = fine.height / 2;
-  c.data.resize(static_cast<std::size_t>(c.width) * c.height);
-  for (int y = 0; y < c.height; ++y) {
+void downsample_rows(const ImageF& fine, ImageF& c, int y0, int y1, Reduce reduce) {
+  for (int y = y0; y < y1; ++y) {
     const float* r0 = fine.data.data() + static_cast<std::size_t>(2 * y) * fine.width;
     const float* r1 = r0 + fine.width;
     float* out = c.data.data() + static_cast<std::size_t>(y) * c.width;
     for (int x = 0; x < c.width; ++x) out[x] = reduce(r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
   }
+}
+
+ImageF half_size(const ImageF& fine) {
+  ImageF c;
+  c.width = fine.width / 2;
+  c.height = fine.height / 2;
+  c.data.resize(static_cast<std::size_t>(c.width) * c.height);
   return c;
 }
+
+inline float mean4(float a, float b, float c, float d) { return 0.25f * (a + b + c + d); }
+
+// Mean of the valid (> 0) depths only: averaging in a hole would invent a depth.
+inline float mean_valid4(float a, float b, float c, float d) {
+  const float sum = (a > 0.0f ? a : 0.0f) + (b > 0.0f ? b : 0.0f) + (c > 0.0f ? c : 0.0f) + (d > 0.0f ? d : 0.0f);
+  const int count = (a > 0.0f) + (b > 0.0f) + (c > 0.0f) + (d > 0.0f);
+  return count > 0 ? sum / static_cast<float>(count) : 0.0f;
+}
+
+void interleave_rows(const RgbdLevel& L, std::vector<float>& out, int y0, int y1) {
+  const std::size_t w = static_cast<std::size_t>(L.intensity.width);
+  for (std::size_t i = static_cast<std::size_t>(y0) * w; i < static_cast<std::size_t>(y1) * w; ++i) {
+    out[2 * i] = L.intensity.data[i];
+    out[2 * i + 1] = L.depth.data[i];
+  }
+}
+
+int row_chunks(int rows) { return (rows + kRowsPerChunk - 1) / kRowsPerChunk; }
 
 }  // namespace
 
 ImageF downsample_intensity(const ImageF& fine) {
-  return downsample(fine, [](float a, float b, float c, float d) { return 0.25f * (a + b + c + d); });
+  ImageF c = half_size(fine);
+  downsample_rows(fine, c, 0, c.height, mean4);
+  return c;
 }
 
 ImageF downsample_depth(const ImageF& fine) {
-  // Mean of the valid (> 0) depths only: averaging in a hole would invent a depth.
-  return downsample(fine, [](float a, float b, float c, float d) {
-    float sum = 0.0f;
-    int count = 0;
-    for (float v : {a, b, c, d}) {
-      if (v > 0.0f) {
-        sum += v;
-        ++count;
-      }
-    }
-    return count > 0 ? sum / count : 0.0f;
-  });
+  ImageF c = half_size(fine);
+  downsample_rows(fine, c, 0, c.height, mean_valid4);
+  return c;
 }
 
-RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels) {
+RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads) {
   if (levels < 1) throw Error("pyramid needs at least 1 level, got " + std::to_string(levels));
   const int cw = image.width >> (levels - 1), ch = image.height >> (levels - 1);
   if (cw < 8 || ch < 8) {
@@ -63,12 +83,26 @@ RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, i
   base.intensity.height = base.depth.height = image.height;
   base.intensity.data = image.intensity;
   base.depth.data = image.depth;
-  for (int l = 1; l < levels; ++l) {
+  for (int l = 0; l < levels; ++l) {
     RgbdLevel& L = p.levels[static_cast<std::size_t>(l)];
-    L.level = l;
-    L.K = K.at_level(l);
-    L.intensity = downsample_intensity(p.levels[static_cast<std::size_t>(l - 1)].intensity);
-    L.depth = downsample_depth(p.levels[static_cast<std::size_t>(l - 1)].depth);
+    if (l > 0) {
+      const RgbdLevel& fine = p.levels[static_cast<std::size_t>(l - 1)];
+      L.level = l;
+      L.K = K.at_level(l);
+      L.intensity = half_size(fine.intensity);
+      L.depth = half_size(fine.depth);
+    }
+    L.intensity_depth.resize(2 * L.intensity.data.size());
+    const int rows = L.intensity.height;
+    for_each_chunk(row_chunks(rows), threads, [&](int c) {
+      const int y0 = c * kRowsPerChunk, y1 = std::min(rows, y0 + kRowsPerChunk);
+      if (l > 0) {
+        const RgbdLevel& fine = p.levels[static_cast<std::size_t>(l - 1)];
+        downsample_rows(fine.intensity, L.intensity, y0, y1, mean4);
+        downsample_rows(fine.depth, L.depth, y0, y1, mean_valid4);
+      }
+      interleave_rows(L, L.intensity_depth, y0, y1);
+    });
   }
   return p;
 }

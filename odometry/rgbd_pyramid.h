@@ -23,6 +23,9 @@ struct RgbdLevel {
   ImageF intensity;  // 0..255
   ImageF depth;      // metres, 0 = missing
   io::Intrinsics K;      // intrinsics of this level
+  // [I, D] per pixel, interleaved (what the float kernels read; build_pyramid fills it, a
+  // problem on a level without it interleaves its own copy).
+  std::vector<float> intensity_depth;
 };
 
 struct RgbdPyramid {
@@ -33,8 +36,9 @@ struct RgbdPyramid {
 ImageF downsample_intensity(const ImageF& fine);
 ImageF downsample_depth(const ImageF& fine);
 
-// Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8.
-RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels);
+// Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8. Rows
+// are split over `threads` threads (the result does not depend on it).
+RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads = 1);
 
 // Central-difference gradients (x: columns, y: rows), zero on the border; used for the
 // image statistics and for visualisation (the residual Jacobians differentiate the

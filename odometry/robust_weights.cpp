@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "odometry/parallel_chunks.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {
@@ -26,29 +27,29 @@ const char* to_string(WeightKind kind) {
 
 namespace {
 
-// sum_i r2_i (nu + 1) / (nu + r2_i * inv), in float with eight independent partial sums so
-// the compiler can vectorize it without reassociation flags; blocks are summed in double.
-double t_scale_sum(const std::vector<float>& r2, double nu, double inv) {
-  const float fnu = static_cast<float>(nu), fnu1 = static_cast<float>(nu + 1.0), finv = static_cast<float>(inv);
-  double total = 0.0;
-  const std::size_t n = r2.size();
-  constexpr std::size_t kBlock = 4096;
-  for (std::size_t start = 0; start < n; start += kBlock) {
-    const std::size_t end = std::min(n, start + kBlock);
-    float acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    std::size_t i = start;
-    for (; i + 8 <= end; i += 8) {
-      for (int l = 0; l < 8; ++l) {
-        const float v = r2[i + l];
-        acc[l] += v * fnu1 / (fnu + v * finv);
-      }
-    }
-    double block = 0.0;
-    for (; i < end; ++i) block += double(r2[i]) * fnu1 / (fnu + r2[i] * finv);
-    for (float a : acc) block += a;
-    total += block;
+// The t-distribution's scale: fixed point of sigma^2 = scale_sum(1 / sigma^2) / count,
+// started at initial_sigma (or the RMS). 0 when it does not converge to a positive finite value.
+template <class ScaleSum>
+double t_fixed_point(const ScaleSum& scale_sum, long long count, double sum_squares, const WeightOptions& options,
+                     double initial_sigma) {
+  double sigma2 = initial_sigma > 0.0 ? initial_sigma * initial_sigma : sum_squares / double(count);
+  for (int it = 0; it < options.max_scale_iterations; ++it) {
+    const double next = scale_sum(1.0 / sigma2) / double(count);
+    const bool done = std::abs(next - sigma2) <= options.scale_tolerance * sigma2;
+    sigma2 = next;
+    if (done || !(sigma2 > 0.0)) break;
   }
-  return total;
+  if (!(sigma2 > 0.0) || !std::isfinite(sigma2)) return 0.0;
+  return std::sqrt(sigma2);
+}
+
+// 1.4826 median |r| over the valid residuals (MAD about zero: residuals at the optimum are
+// centred); the RMS when the median is 0.
+double huber_scale(std::vector<float>& absr, double sum_squares) {
+  const std::size_t mid = absr.size() / 2;
+  std::nth_element(absr.begin(), absr.begin() + static_cast<std::ptrdiff_t>(mid), absr.end());
+  const double sigma = 1.4826 * absr[mid];
+  return sigma > 0.0 ? sigma : std::sqrt(sum_squares / double(absr.size()));
 }
 
 }  // namespace
@@ -70,54 +71,88 @@ double compute_weights(const float* residuals, const unsigned char* valid, std::
     fill(1.0f);
     return count == 0 ? 0.0 : std::sqrt(sum_sq / count);
   }
-
+  std::vector<float> v;
+  v.reserve(count);
   if (options.kind == WeightKind::kHuber) {
-    std::vector<float> absr;
-    absr.reserve(count);
     for (std::size_t i = 0; i < n; ++i) {
-      if (valid[i]) absr.push_back(std::abs(residuals[i]));
+      if (valid[i]) v.push_back(std::abs(residuals[i]));
     }
-    const std::size_t mid = absr.size() / 2;
-    std::nth_element(absr.begin(), absr.begin() + mid, absr.end());
-    double sigma = 1.4826 * absr[mid];  // MAD about zero: residuals at the optimum are centred
-    if (sigma <= 0.0) sigma = std::sqrt(sum_sq / count);
+    const double sigma = huber_scale(v, sum_sq);
     const double k = options.huber_k * sigma;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!valid[i]) {
-        weights[i] = 0.0f;
-        continue;
-      }
       const double a = std::abs(residuals[i]);
-      weights[i] = a <= k ? 1.0f : static_cast<float>(k / a);
+      weights[i] = !valid[i] ? 0.0f : a <= k ? 1.0f : static_cast<float>(k / a);
     }
     return sigma;
   }
-
-  // t-distribution: fixed point of sigma^2 = mean(r^2 (nu+1)/(nu + r^2/sigma^2)).
-  std::vector<float> r2;
-  r2.reserve(count);
   for (std::size_t i = 0; i < n; ++i) {
-    if (valid[i]) r2.push_back(residuals[i] * residuals[i]);
+    if (valid[i]) v.push_back(residuals[i]);
   }
-  const double nu = options.nu;
-  double sigma2 = initial_sigma > 0.0 ? initial_sigma * initial_sigma : sum_sq / count;
-  for (int it = 0; it < options.max_scale_iterations; ++it) {
-    const double next = t_scale_sum(r2, nu, 1.0 / sigma2) / count;
-    const bool done = std::abs(next - sigma2) <= options.scale_tolerance * sigma2;
-    sigma2 = next;
-    if (done || !(sigma2 > 0.0)) break;
-  }
-  if (!(sigma2 > 0.0) || !std::isfinite(sigma2)) {
+  const KernelTable& kernels = default_kernels();
+  v.resize(padded_terms(v.size()), 0.0f);
+  const float nu = static_cast<float>(options.nu);
+  const double sigma = t_fixed_point(
+      [&](double inv) { return kernels.t_scale_sum(v.data(), 0, v.size(), nu, static_cast<float>(inv)); },
+      static_cast<long long>(count), sum_sq, options, initial_sigma);
+  if (sigma == 0.0) {
     fill(1.0f);
     return 0.0;
   }
-  const float fnu = static_cast<float>(nu), fnu1 = static_cast<float>(nu + 1.0);
-  const float inv = static_cast<float>(1.0 / sigma2);
+  const float fnu = nu, fnu1 = static_cast<float>(options.nu + 1.0);
+  const float inv = static_cast<float>(1.0 / (sigma * sigma));
   for (std::size_t i = 0; i < n; ++i) {
     const float r = residuals[i];
     weights[i] = valid[i] ? fnu1 / (fnu + r * r * inv) : 0.0f;
   }
-  return std::sqrt(sigma2);
+  return sigma;
+}
+
+double estimate_scale(const ResidualSet& set, std::size_t terms, const WeightOptions& options, double initial_sigma,
+                      const KernelTable& kernels, int threads) {
+  if (set.valid == 0) return 0.0;
+  const double rms = std::sqrt(set.sum_squares / double(set.valid));
+  if (set.sum_squares == 0.0 || options.kind == WeightKind::kNone) return rms;
+  if (options.kind == WeightKind::kHuber) {
+    std::vector<float> absr;
+    absr.reserve(static_cast<std::size_t>(set.valid));
+    for (std::size_t k = 0; k < terms; ++k) {
+      if (set.flags[k] & set.bit) absr.push_back(std::abs(set.r[k]));
+    }
+    return huber_scale(absr, set.sum_squares);
+  }
+  const float nu = static_cast<float>(options.nu);
+  const std::size_t padded = padded_terms(terms);
+  return t_fixed_point(
+      [&](double inv) {
+        return sum_over_chunks<ChunkSum>(padded, kChunkTerms, threads, [&](std::size_t b, std::size_t e) {
+                 return ChunkSum{kernels.t_scale_sum(set.r, b, e, nu, static_cast<float>(inv))};
+               }).value;
+      },
+      set.valid, set.sum_squares, options, initial_sigma);
+}
+
+WeightModel weight_model(const WeightOptions& options, double sigma_i, double sigma_d) {
+  WeightModel m;
+  const auto objective = [&](double sigma) {
+    ObjectiveWeights w;  // unit
+    if (!(sigma > 0.0)) return w;
+    if (options.kind == WeightKind::kTDistribution) {
+      w.numerator = static_cast<float>(options.nu + 1.0);
+      w.denominator = static_cast<float>(options.nu);
+      w.inv_scale2 = static_cast<float>(1.0 / (sigma * sigma));
+    } else if (options.kind == WeightKind::kHuber) {
+      w.huber = static_cast<float>(options.huber_k * sigma);
+    }
+    return w;
+  };
+  switch (options.kind) {
+    case WeightKind::kTDistribution: m.kind = WeightModel::kTDistribution; break;
+    case WeightKind::kHuber: m.kind = WeightModel::kHuber; break;
+    case WeightKind::kNone: m.kind = WeightModel::kUnit; break;
+  }
+  m.intensity = objective(sigma_i);
+  m.depth = objective(sigma_d);
+  return m;
 }
 
 }  // namespace bivo::odometry

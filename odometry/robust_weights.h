@@ -8,8 +8,15 @@
 //    by fixed-point iteration; w_i = (nu + 1) / (nu + r_i^2 / sigma^2).
 //  * Huber (k = 1.345 sigma, sigma = 1.4826 * median |r|): w_i = min(1, k sigma / |r_i|).
 //  * none: w_i = 1.
+//
+// The weight stage of RgbdOdometryProblem is split in two: estimate_weight_model() finds the
+// scales (the part that needs every residual), and the kernels apply the resulting
+// WeightModel term by term, fused into the normal-equation pass (rgbd_kernels.h).
+#include <cstddef>
 #include <string>
 #include <vector>
+
+#include "odometry/rgbd_kernels.h"
 
 namespace bivo::odometry {
 
@@ -33,5 +40,25 @@ struct WeightOptions {
 // the t-distribution's fixed-point iteration there (e.g. the previous iteration's scale).
 double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n,
                        const WeightOptions& options, float* weights, double initial_sigma = 0.0);
+
+// What the scale estimation needs to know about one objective's residuals in the buffers
+// (invalid terms hold r = 0): the residuals, how many are valid, their sum of squares.
+struct ResidualSet {
+  const float* r = nullptr;
+  const std::uint8_t* flags = nullptr;
+  std::uint8_t bit = 1;
+  long long valid = 0;
+  double sum_squares = 0.0;
+};
+
+// The scale of one objective as compute_weights() finds it (same fixed point, same
+// conventions), over buffers of `terms` entries with the kernels' chunked sums on `threads`
+// threads; initial_sigma warm-starts the t fixed point.
+double estimate_scale(const ResidualSet& set, std::size_t terms, const WeightOptions& options, double initial_sigma,
+                      const KernelTable& kernels, int threads);
+
+// The WeightModel that applies `options` with scales sigma_i, sigma_d (0: unit weights, the
+// compute_weights() convention for an objective without usable residuals).
+WeightModel weight_model(const WeightOptions& options, double sigma_i, double sigma_d);
 
 }  // namespace bivo::odometry

@@ -1,7 +1,11 @@
 #include "odometry/tracker.h"
 
+#include <time.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <sstream>
 
 #include "solvers/backend_registry.h"
@@ -66,7 +70,15 @@ NoiseBoundedLevel solve_noise_bounded(RgbdOdometryProblem& problem, const Policy
   return out;
 }
 
+constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
+
 }  // namespace
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
 
 InitialGuess parse_initial_guess(const std::string& name) {
   if (name == "identity") return InitialGuess::kIdentity;
@@ -117,6 +129,15 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
+  if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
+    throw Error("pixel motion tolerance must be finite and >= 0, got " + std::to_string(options.pixel_motion_tolerance));
+  }
+  if (options.problem.threads < 1 || options.problem.threads > 256) {
+    throw Error("threads must be in 1..256, got " + std::to_string(options.problem.threads));
+  }
+  if (method == Method::kWeighted && !(options.policy.phi > 0.0 && std::isfinite(options.policy.phi))) {
+    throw Error("phi must be finite and > 0, got " + std::to_string(options.policy.phi));
+  }
   if (options.first_frame < 0) {
     throw Error("first frame must be >= 0, got " + std::to_string(options.first_frame));
   }
@@ -126,16 +147,28 @@ void validate(const TrackerOptions& options) {
   }
 }
 
-PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels) {
+FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory) {
+  // In 64 bits: first_frame + 1 and first_frame + max_frames may exceed INT_MAX.
+  const std::int64_t first = options.first_frame;
+  if (first < 0 || first + 1 >= total) {
+    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
+                std::to_string(first) + " leaves fewer than 2 to process");
+  }
+  const std::int64_t end = options.max_frames < 0 ? total : std::min<std::int64_t>(total, first + options.max_frames);
+  return {static_cast<int>(first), static_cast<int>(end)};
+}
+
+PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads) {
   PreparedFrame f;
-  f.pyramid = build_pyramid(image, K, levels);
-  f.statistics = frame_statistics(f.pyramid.levels[0]);
+  f.pyramid = build_pyramid(image, K, levels, threads);
+  f.statistics = frame_statistics(f.pyramid.levels[0], threads);
   return f;
 }
 
 PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
                            const Eigen::Isometry3d& initial, const TrackerOptions& options) {
   const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_seconds();
   const Method method = parse_method(options.method);
   const std::string backend_name = backend_for(options);
   const bool whole_problem = solvers::is_whole_problem_backend(backend_name);
@@ -156,12 +189,26 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     eps_bar = bounded_epsilon_per_weight(reference.statistics, options.policy);
     result.epsilon_per_weight = eps_bar;
   } else if (!is_bounded(method) && !lambda_from_residuals(method)) {
-    lambda = method_lambda(method, reference.statistics, options.policy);
+    std::string why;
+    const std::optional<double> defined = frame_lambda(method, reference.statistics, options.policy, &why);
+    if (!defined) {
+      // The reference frame cannot weigh the objectives (no valid depth, no texture): an
+      // invalid pair with the motion prior, as when every level is skipped (tracker.h).
+      result.valid = false;
+      result.T_21 = initial;
+      result.note = "lambda undefined, " + why + ": motion prior used";
+      result.seconds = seconds_since(t0);
+      return result;
+    }
+    lambda = *defined;
     result.lambda = lambda;
   }
   RgbdProblemOptions problem_options = options.problem;
   problem_options.depth_first = method == Method::kDepth;
   problem_options.joint_weights = method == Method::kJoint;
+  // single and depth minimize F_1 alone: the other objective is not built per iteration.
+  const bool one_objective = method == Method::kSingle || method == Method::kDepth;
+  problem_options.model_f2 = !one_objective;
 
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
@@ -175,7 +222,9 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   for (int level = levels - 1; level >= options.finest_level; --level) {
     LevelResult lr;
     lr.level = level;
+    const auto t_reference = Clock::now();
     RgbdOdometryProblem problem(reference.pyramid.levels[level], current.pyramid.levels[level], problem_options);
+    result.profile.add("reference", seconds_since(t_reference));
     lr.terms = problem.num_terms();
     if (lr.terms < options.min_valid_pixels) {
       lr.skipped = true;
@@ -183,6 +232,12 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
       result.levels.push_back(lr);
       continue;
+    }
+    if (options.pixel_motion_tolerance > 0.0) {
+      solver_options.step_measure = [&problem](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
+        return problem.pixel_motion(at, delta);
+      };
+      solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
     }
     const auto run = [&](const solvers::Scalarization& scalarization) {
       return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, solver_options)
@@ -232,6 +287,14 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     any_level_solved = true;
     lr.f_i = problem_options.depth_first ? summary.final_f2 : summary.final_f1;
     lr.f_d = problem_options.depth_first ? summary.final_f1 : summary.final_f2;
+    if (one_objective) {
+      if (options.evaluate_unused_objective) {
+        const std::array<double, 2> f = problem.objectives_at(x, &result.profile);
+        (problem_options.depth_first ? lr.f_i : lr.f_d) = f[problem_options.depth_first ? 0 : 1];
+      } else {
+        (problem_options.depth_first ? lr.f_i : lr.f_d) = kNotEvaluated;
+      }
+    }
     if (is_bounded(method)) {
       lr.epsilon = summary.epsilon;
       lr.mu = summary.multiplier;
@@ -254,6 +317,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     result.note += "no level could be solved: motion prior used";
   }
   result.seconds = seconds_since(t0);
+  result.cpu_seconds = process_cpu_seconds() - cpu0;
   return result;
 }
 
@@ -264,13 +328,8 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
   const io::TumSequence seq = io::open_tum_sequence(directory, so);
-  const int total = static_cast<int>(seq.frames.size());
-  const int first_index = options.first_frame;
-  if (first_index + 1 >= total) {
-    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
-                std::to_string(first_index) + " leaves fewer than 2 to process");
-  }
-  const int end = options.max_frames < 0 ? total : std::min(total, first_index + options.max_frames);
+  const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, directory);
+  const int first_index = window.begin, end = window.end;
 
   TrackResult out;
   out.sequence = seq.name;
@@ -281,8 +340,9 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   const int width = first.width, height = first.height;
   double load_seconds = seconds_since(t_load);
   out.load_seconds += load_seconds;
+  const int threads = options.problem.threads;
   auto t_prep = Clock::now();
-  PreparedFrame reference = prepare_frame(first, seq.intrinsics, options.levels);
+  PreparedFrame reference = prepare_frame(first, seq.intrinsics, options.levels, threads);
   out.profile.add("pyramid", seconds_since(t_prep));
 
   Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
@@ -298,9 +358,12 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     load_seconds = seconds_since(t_load);
     out.load_seconds += load_seconds;
 
+    // Each frame is prepared once: the current frame of pair k is the reference of pair k + 1.
     t_prep = Clock::now();
-    PreparedFrame current = prepare_frame(image, seq.intrinsics, options.levels);
+    const double prep_cpu0 = process_cpu_seconds();
+    PreparedFrame current = prepare_frame(image, seq.intrinsics, options.levels, threads);
     const double prep_seconds = seconds_since(t_prep);
+    const double prep_cpu = process_cpu_seconds() - prep_cpu0;
 
     const Eigen::Isometry3d prior =
         options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
@@ -308,6 +371,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     pair.index = k - 1;
     pair.profile.add("pyramid", prep_seconds);
     pair.seconds += prep_seconds;
+    pair.cpu_seconds += prep_cpu;
     pair.load_seconds = load_seconds;
     if (pair.valid) {
       velocity = pair.T_21;
@@ -369,8 +433,8 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   p.current_frame = seq.frames[current_index];
   const io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
   const io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
-  p.reference = prepare_frame(a, seq.intrinsics, options.levels);
-  p.current = prepare_frame(b, seq.intrinsics, options.levels);
+  p.reference = prepare_frame(a, seq.intrinsics, options.levels, options.problem.threads);
+  p.current = prepare_frame(b, seq.intrinsics, options.levels, options.problem.threads);
   if (seq.groundtruth) {
     p.groundtruth_T21 = io::groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
   }

@@ -16,9 +16,10 @@
 //   io::PoseError e = io::pose_error(T_21_estimate, *pair.groundtruth_T21);
 //
 // Frames are streamed: a run holds only the pair it works on. A pyramid level without
-// enough valid pixels is skipped (noted in LevelResult); when every level is skipped the
-// pair is marked invalid and the motion prior (identity or constant velocity) is used. A
-// pose is never NaN.
+// enough valid pixels is skipped (noted in LevelResult); when every level is skipped, or
+// the method's lambda is undefined on the reference frame (tykkala, weighted: no valid
+// depth, no texture), the pair is marked invalid and the motion prior (identity or
+// constant velocity) is used. A pose is never NaN.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -53,8 +54,18 @@ struct TrackerOptions {
   int max_iterations = 20;          // per pyramid level
   double step_tolerance = 1e-4;     // |delta| (m, rad) that ends a level
   double relative_decrease_tolerance = 1e-3;  // relative merit change that ends a level
+  // A step that would move the reference points' projections by less than this RMS image
+  // motion (pixels of the level being solved) is not taken and ends the level (0: off, the
+  // default: at 0.05 px it cut iterations by 40 % but raised weighted's RPE on fr1/rpy by 5 %
+  // and stalled depth-heavy methods on slow fr3/office motion; docs/odometry.md "Speed").
+  double pixel_motion_tolerance = 0.0;
+  // single / depth optimize one objective and build only its model per iteration; true
+  // also evaluates the other one (weights estimated at the level's final x) for the logs,
+  // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.
+  bool evaluate_unused_objective = false;
   int min_valid_pixels = 200;       // fewer valid terms at a level: the level is skipped
-  RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion
+  RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion,
+                                    // Jacobian kind, threads (also those of the pyramid)
   double max_association_dt = 0.02; // seconds
   std::optional<io::Intrinsics> intrinsics;  // override of the sequence-name preset
   int first_frame = 0;              // index of the first associated frame processed
@@ -73,7 +84,9 @@ struct LevelResult {
   int valid_intensity = 0, valid_depth = 0;  // at the final x of the level
   int iterations = 0;
   bool skipped = false;     // too few valid pixels: x left unchanged
-  double f_i = 0.0, f_d = 0.0;  // final objectives (weights of the last linearization)
+  double f_i = 0.0, f_d = 0.0;  // final objectives (weights of the last linearization; the
+                                // objective single / depth do not optimize: NaN unless
+                                // TrackerOptions::evaluate_unused_objective)
   double lambda = 0.0;      // weighted sum: lambda used (joint, scaled: at the last step)
   double correlation = 0.0; // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
   bool relaxed = false;     // noise-bounded: the guard relaxed the bound (x_I kept)
@@ -95,7 +108,8 @@ struct PairResult {
   int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed
   double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
   double f_i = 0.0, f_d = 0.0;           // at the finest level solved
-  double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding)
+  double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding), wall
+  double cpu_seconds = 0.0;              // the same span in CPU time of the process (all threads)
   double load_seconds = 0.0;             // PNG decoding of the current frame
   solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
   std::vector<LevelResult> levels;       // coarse to fine
@@ -112,6 +126,13 @@ struct TrackResult {
   double load_seconds = 0.0;             // PNG decoding, all frames (not part of any pair)
 };
 
+// The frames [begin, end) of a sequence of `total` frames that options.first_frame and
+// max_frames select; bivo::Error naming `directory` and `total` when fewer than 2 remain.
+struct FrameWindow {
+  int begin = 0, end = 0;
+};
+FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory);
+
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
 // frames (naming the sequence's frame count).
@@ -123,7 +144,10 @@ struct PreparedFrame {
   RgbdPyramid pyramid;
   FrameStatistics statistics;
 };
-PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels);
+PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads = 1);
+
+// CPU time of this process so far (every thread), seconds.
+double process_cpu_seconds();
 
 // Estimates T_21 from reference to current starting at `initial` (coarse to fine). The
 // result's timing fields cover the estimation only.

@@ -23,23 +23,33 @@ PACKAGES=(
   slurm-wlm
   munge
 )
+# clang for the sanitizer build (ASan + UBSan) and the libFuzzer targets (`make sanitize`,
+# `make fuzz`), without recommends (clang's alone would pull llvm-14-dev).
+PACKAGES_NO_RECOMMENDS=(
+  clang
+  libclang-rt-14-dev
+)
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
+missing_in() {
+  for p in "$@"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      echo "$p"
+    fi
+  done
+}
+mapfile -t missing < <(missing_in "${PACKAGES[@]}")
+mapfile -t missing_nr < <(missing_in "${PACKAGES_NO_RECOMMENDS[@]}")
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#PACKAGES[@]} packages present"
+if [ ${#missing[@]} -eq 0 ] && [ ${#missing_nr[@]} -eq 0 ]; then
+  echo "install-deps: all $(( ${#PACKAGES[@]} + ${#PACKAGES_NO_RECOMMENDS[@]} )) packages present"
   exit 0
 fi
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-echo "install-deps: installing ${missing[*]}"
+echo "install-deps: installing ${missing[*]} ${missing_nr[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
-$SUDO apt-get install -y -qq "${missing[@]}"
+if [ ${#missing[@]} -gt 0 ]; then $SUDO apt-get install -y -qq "${missing[@]}"; fi
+if [ ${#missing_nr[@]} -gt 0 ]; then $SUDO apt-get install -y -qq --no-install-recommends "${missing_nr[@]}"; fi
 echo "install-deps: done"

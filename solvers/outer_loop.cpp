@@ -87,7 +87,8 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   bool stop = false;
   for (int it = 1; it <= options.max_iterations && !stop; ++it) {
     const auto t_iter = Clock::now();
-    const Subproblem sp = scalarization.make_subproblem(lin);
+    Subproblem sp = scalarization.make_subproblem(lin);
+    sp.profile = &summary.phases;
     StepResult step;
     {
       ScopedPhase phase(&summary.phases, "subproblem");
@@ -121,6 +122,21 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       break;
     }
     rec.step_norm = step.delta.norm();
+    if (options.step_measure && options.step_measure_tolerance > 0.0) {
+      const double size = options.step_measure(x, step.delta);
+      if (size < options.step_measure_tolerance) {
+        summary.termination = TerminationReason::kStepTolerance;
+        std::ostringstream msg;
+        msg << "step measure " << size << " < " << options.step_measure_tolerance << " (step not taken)";
+        summary.message = msg.str();
+        rec.accepted = false;
+        rec.f1 = f[0];
+        rec.f2 = f[1];
+        rec.seconds = seconds_since(t_iter);
+        summary.records.push_back(rec);
+        break;
+      }
+    }
     const Eigen::VectorXd x_new = manifold.retract(x, step.delta);
     std::array<double, 2> f_new{NAN, NAN};
     if (x_new.allFinite()) {

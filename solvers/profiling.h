@@ -1,9 +1,13 @@
 #pragma once
 // Phase timers: every layer records wall time per named phase into one PhaseProfile, so
 // `bivo profile` can split a frame pair's time without timing code sprinkled around.
-// Phase names used across the project:
-//   "pyramid", "residuals" (residuals + Jacobians), "weights", "normal_equations",
-//   "cone_data", "subproblem", "other".
+// Phase names used across the project (odometry: docs/odometry.md "Speed"):
+//   "pyramid" (pyramid + statistics of a frame), "reference" (a level's pose-independent
+//   data), "residuals" (the warp: residuals, image gradients, validity, F under the stored
+//   weights), "weights" (robust scales), "normal_equations" (weights applied, Jacobians, H, b, a
+//   in one pass), "cone_data", "subproblem", "other".
+// A name "a/b" is a part of phase "a" (a backend's own split, e.g.
+// "subproblem/ipm_kkt_factor"): total_seconds() leaves it out.
 #include <chrono>
 #include <map>
 #include <string>
@@ -19,7 +23,9 @@ class PhaseProfile {
   }
   double total_seconds() const {
     double s = 0.0;
-    for (const auto& [name, t] : seconds_) s += t;
+    for (const auto& [name, t] : seconds_) {
+      if (name.find('/') == std::string::npos) s += t;
+    }
     return s;
   }
   const std::map<std::string, double>& all() const { return seconds_; }

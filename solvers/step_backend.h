@@ -18,6 +18,8 @@ struct Subproblem {
   const Linearization* lin = nullptr;
   double lambda = 0.0;
   double epsilon = 0.0;
+  PhaseProfile* profile = nullptr;  // where a backend may record its own phases, named
+                                    // "subproblem/<phase>" (parts of "subproblem"); may be null
 };
 
 struct StepResult {

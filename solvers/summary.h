@@ -1,6 +1,7 @@
 #pragma once
 // What one solve is told (SolverOptions) and what it reports (Summary), shared by the outer
 // loop (step backends) and the whole-problem backends (Ceres, Ipopt-NLP).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,10 +25,16 @@ struct SolverOptions {
   PhaseProfile* profile = nullptr;
   // Ask the problem for full residual data even if the backend does not need it.
   bool want_full_residuals = false;
+  // Optional size of a step in the problem's own units (odometry: the RMS image motion in
+  // pixels it causes). When set and below step_measure_tolerance, the step is not taken
+  // and the solve stops with kStepTolerance: a change nobody can see is not worth an
+  // evaluation. Step backends only.
+  std::function<double(const Eigen::VectorXd& x, const Eigen::VectorXd& delta)> step_measure;
+  double step_measure_tolerance = 0.0;
 };
 
 enum class TerminationReason {
-  kStepTolerance,      // ||delta|| < step_tolerance
+  kStepTolerance,      // ||delta|| < step_tolerance, or step_measure below its tolerance
   kRelativeDecrease,   // merit changed by less than relative_decrease_tolerance
   kMaxIterations,      // budget exhausted
   kNoProgress,         // damped backend rejected too many steps in a row

@@ -86,7 +86,7 @@ TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
                                dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   // The last line of stdout is the run line; no progress bar on a non-terminal stderr.
-  const std::regex line(R"((^|\n)frames=4 median_ms=[0-9.]+ mean_ms=[0-9.]+ failures=0\n$)");
+  const std::regex line(R"((^|\n)frames=4 median_ms=[0-9.]+ mean_ms=[0-9.]+ median_cpu_ms=[0-9.]+ mean_cpu_ms=[0-9.]+ failures=0\n$)");
   EXPECT_TRUE(std::regex_search(r.out, line)) << r.out;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
 

@@ -88,3 +88,25 @@ TEST(ConicCli, BadInputIsAnErrorNamingTheFault) {
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.out.find("cannot open"), std::string::npos) << missing.out;
 }
+
+TEST(ConicCli, ReadsCbfAndPrintsThePhaseSplit) {
+  // CBF (by extension): max x0 + x1 s.t. x0 - x1 = 0, x0 + x1 - 2 <= 0, plus the constant 1: 3.
+  const std::string cbf = write("lp.cbf",
+      "VER\n4\nOBJSENSE\nMAX\nVAR\n2 1\nF 2\nCON\n2 2\nL= 1\nL- 1\nOBJACOORD\n2\n0 1\n1 1\nOBJBCOORD\n1\n"
+      "ACOORD\n4\n0 0 1\n0 1 -1\n1 0 1\n1 1 1\nBCOORD\n1\n1 -2\n");
+  CliRun r = run(cbf + " --verbose");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("status: optimal"), std::string::npos) << r.out;
+  const auto k = r.out.find("file objective (max, constant included): ");
+  ASSERT_NE(k, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(k + 41)), 3.0, 1e-8) << r.out;
+  for (const char* phase : {"time by phase", "equilibration", "ordering", "symbolic", "g_passes", "kkt_factor",
+                            "kkt_solve", "refinement", "cones", "polish"}) {
+    EXPECT_NE(r.out.find(phase), std::string::npos) << phase << "\n" << r.out;
+  }
+  // --format cbf on another extension; a malformed file names file and line, exit 1.
+  const std::string bad = write("bad_cbf.txt", "VER\n4\nVAR\n1 1\nEXP 1\n");
+  r = run(bad + " --format cbf");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find(bad + ":5: cone 'EXP' is not supported"), std::string::npos) << r.out;
+}

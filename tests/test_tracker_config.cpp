@@ -30,6 +30,8 @@ TrackerOptions unusual_options() {
   o.max_iterations = 7;
   o.step_tolerance = 0.1 + 0.2;
   o.relative_decrease_tolerance = 1.0 / 3.0;
+  o.pixel_motion_tolerance = 0.1 + 0.7;
+  o.evaluate_unused_objective = true;
   o.min_valid_pixels = 123;
   o.max_association_dt = 0.015;
   o.first_frame = 4;
@@ -50,6 +52,9 @@ TrackerOptions unusual_options() {
   o.problem.occlusion_margin = 0.07;
   o.problem.depth_first = true;
   o.problem.joint_weights = true;
+  o.problem.model_f2 = false;
+  o.problem.jacobian = bivo::odometry::JacobianKind::kEsm;
+  o.problem.threads = 3;
   o.problem.weights.kind = bivo::odometry::WeightKind::kHuber;
   o.problem.weights.nu = 4.5;
   o.problem.weights.huber_k = 1.5;
@@ -82,6 +87,8 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.max_iterations, o.max_iterations);
   EXPECT_EQ(back.step_tolerance, o.step_tolerance);
   EXPECT_EQ(back.relative_decrease_tolerance, o.relative_decrease_tolerance);
+  EXPECT_EQ(back.pixel_motion_tolerance, o.pixel_motion_tolerance);
+  EXPECT_EQ(back.evaluate_unused_objective, o.evaluate_unused_objective);
   EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);
   EXPECT_EQ(back.max_association_dt, o.max_association_dt);
   EXPECT_EQ(back.first_frame, o.first_frame);
@@ -103,6 +110,9 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.problem.occlusion_margin, o.problem.occlusion_margin);
   EXPECT_EQ(back.problem.depth_first, o.problem.depth_first);
   EXPECT_EQ(back.problem.joint_weights, o.problem.joint_weights);
+  EXPECT_EQ(back.problem.model_f2, o.problem.model_f2);
+  EXPECT_EQ(back.problem.jacobian, o.problem.jacobian);
+  EXPECT_EQ(back.problem.threads, o.problem.threads);
   EXPECT_EQ(back.problem.weights.kind, o.problem.weights.kind);
   EXPECT_EQ(back.problem.weights.nu, o.problem.weights.nu);
   EXPECT_EQ(back.problem.weights.huber_k, o.problem.weights.huber_k);

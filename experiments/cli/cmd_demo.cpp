@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/output_set.h"
 #include "experiments/demo.h"
 
 namespace bivo::experiments::cli {
@@ -33,6 +34,7 @@ void add_demo_command(CLI::App& app) {
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
   cmd->add_flag("--rerender", o.rerender, "render the sequences even when OUTPUT/sequences has them");
   cmd->callback([a] {
+    check_output_folder({"--output", a->o.output});
     DemoOptions o = a->o;
     o.sweep = !a->no_sweep;
     o.pareto = !a->no_pareto;

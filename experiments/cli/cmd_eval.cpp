@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "experiments/cli/commands.h"
+#include "experiments/output_set.h"
 #include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 
@@ -28,6 +29,8 @@ void add_eval_command(CLI::App& app) {
   cmd->footer(
       "Prints one line: rpe_trans=<m/s> rpe_rot=<deg/s> ate=<m> pairs=<number of RPE windows>");
   cmd->callback([opt] {
+    check_output_files({{"--output", opt->output}},
+                       {{"groundtruth", opt->groundtruth}, {"estimate", opt->estimate}});
     const TrajectoryEvaluation e = evaluate_trajectory_files(opt->groundtruth, opt->estimate, opt->delta, opt->max_dt);
     if (!opt->output.empty()) {
       odometry::io::write_file_atomically(opt->output, [&](std::ostream& o) { o << evaluation_json(e).dump(2) << "\n"; });

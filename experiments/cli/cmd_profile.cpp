@@ -6,6 +6,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
+#include "experiments/output_set.h"
 #include "experiments/tracker_config.h"
 #include "experiments/profile_study.h"
 
@@ -15,7 +16,8 @@ void add_profile_command(CLI::App& app) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     ProfileOptions o;
-    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact"};
+    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact",
+                                      "bounded:ipm-full", "bounded:ipm-compressed"};
     std::string output;
   };
   auto a = std::make_shared<Args>();
@@ -25,9 +27,14 @@ void add_profile_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run")->capture_default_str();
+  cmd->add_option("--socp-max-frames", a->o.socp_max_frames,
+                  "frames for the interior-point SOCP backends (bounded:ipm-*; seconds per pair; 0 = --max-frames)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {
+    check_output_folder({"--output", a->output});
     ProfileOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.tracker = a->tracker->options();

@@ -5,6 +5,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
+#include "experiments/output_set.h"
 #include "experiments/report_builder.h"
 #include "experiments/study_plan.h"
 
@@ -41,6 +42,7 @@ StudyFactory add_report_flags(CLI::App* cmd) {
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
   return [a] {
+    check_output_folder({"--output", a->output});
     ReportOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);

@@ -1,6 +1,7 @@
 // `bivo run SEQUENCE_DIR --method M [--backend B] ...`: frame-to-frame odometry over one TUM
 // sequence; writes the TUM trajectory, a per-pair log and the effective configuration, ends
-// stdout with the run line "frames=N median_ms=X mean_ms=Y failures=K".
+// stdout with the run line
+// "frames=N median_ms=X mean_ms=Y median_cpu_ms=A mean_cpu_ms=B failures=K".
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -8,8 +9,6 @@
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/sequence_runner.h"
-#include "experiments/tracker_config.h"
-#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {
@@ -45,7 +44,9 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--log", a->log, "per-pair CSV (timings, lambda/epsilon, objectives, errors vs ground truth)");
   cmd->add_option("--save-config", a->save_config,
                   "also write the effective configuration (JSON, for --config) to this file");
-  cmd->footer("Ends stdout with: frames=N median_ms=X mean_ms=Y failures=K (time per pair, loading excluded).");
+  cmd->footer(
+      "Ends stdout with: frames=N median_ms=X mean_ms=Y median_cpu_ms=A mean_cpu_ms=B failures=K (wall and CPU "
+      "time per pair, loading excluded).");
   cmd->callback([a, first, max] {
     RunRequest req = a->request;
     req.tracker = a->tracker->options();
@@ -54,21 +55,20 @@ void add_run_command(CLI::App& app) {
     if (max->count() > 0) req.tracker.max_frames = req.max_frames;
     req.first_frame = req.tracker.first_frame;
     req.max_frames = req.tracker.max_frames;
+    // The log reports both objectives of every method (single / depth optimize one).
+    if (!a->log.empty()) req.tracker.evaluate_unused_objective = true;
     // Fail before the run, not after it, when an output cannot be written.
-    for (const std::string* path : {&a->output, &a->log, &a->save_config}) {
-      if (path->empty()) continue;
-      const auto parent = std::filesystem::absolute(*path).parent_path();
-      if (!std::filesystem::is_directory(parent)) {
-        throw Error("cannot write '" + *path + "': directory '" + parent.string() + "' does not exist");
-      }
-    }
+    const std::string config_beside = a->output.empty() ? "" : config_path_for(a->output);
+    std::vector<NamedPath> inputs = run_input_files(req);
+    inputs.push_back({"--config", a->tracker->config_path()});
+    const RunOutputPaths outputs{a->output, a->log, {config_beside, a->save_config}};
+    check_output_files({{"--output", a->output},
+                        {"--log", a->log},
+                        {"the configuration beside --output", config_beside},
+                        {"--save-config", a->save_config}},
+                       inputs);
     const RunOutcome run = run_sequence(req);
-    if (!a->output.empty()) {
-      odometry::io::write_tum_trajectory(a->output, run.trajectory);
-      write_tracker_config(config_path_for(a->output), req.tracker);
-    }
-    if (!a->save_config.empty()) write_tracker_config(a->save_config, req.tracker);
-    if (!a->log.empty()) write_pair_log(a->log, run);
+    write_run_outputs(run, req.tracker, outputs);
     std::cout << run_summary_line(run) << std::endl;
   });
 }

@@ -9,6 +9,7 @@
 
 #include "experiments/cli/commands.h"
 #include "odometry/synth/benchmark_set.h"
+#include "experiments/output_set.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
@@ -50,6 +51,7 @@ void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
 
 void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   namespace synth = odometry::synth;
+  check_output_folder({"--output", a.output});
   if (a.benchmark_set) {
     run_benchmark_set(a, cmd);
     return;

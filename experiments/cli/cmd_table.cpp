@@ -6,6 +6,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
+#include "experiments/output_set.h"
 #include "experiments/method_matrix.h"
 #include "experiments/study_plan.h"
 
@@ -31,6 +32,7 @@ StudyFactory add_table_flags(CLI::App* cmd) {
   cmd->add_option("--max-frames", a->max_frames, "frames per sequence (-1: all)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   return [a] {
+    check_output_folder({"--output", a->output});
     MatrixOptions o;
     o.sequences = a->sequences;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));

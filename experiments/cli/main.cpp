@@ -5,11 +5,22 @@
 #include <CLI/CLI.hpp>
 
 #include "experiments/cli/commands.h"
+#include "odometry/io/input_limits.h"
 #include "solvers/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"bivo: a testbed for bi-objective optimization, flagship instance RGB-D odometry"};
   app.require_subcommand(1);
+  // Input limits (odometry/io/input_limits.h), before or after the subcommand.
+  auto& limits = bivo::odometry::io::input_limits();
+  app.add_option("--max-image-pixels", limits.max_image_pixels, "largest image (width x height) read or rendered")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-list-entries", limits.max_list_entries,
+                 "most lines of a TUM list or trajectory (and frames of a rendered sequence)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.fallthrough();
   namespace ex = bivo::experiments::cli;
   ex::add_demo_command(app);
   ex::add_run_command(app);

@@ -73,6 +73,18 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
            [](TrackerOptions& o, const int& v) { o.max_iterations = v; });
   add<double>("--step-tolerance", "step norm (m, rad) that ends a level", d.step_tolerance,
               [](TrackerOptions& o, const double& v) { o.step_tolerance = v; });
+  add<double>("--pixel-motion-tolerance",
+              "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
+              d.pixel_motion_tolerance, [](TrackerOptions& o, const double& v) { o.pixel_motion_tolerance = v; });
+  add<bool>("--evaluate-unused-objective",
+            "single/depth: also evaluate the objective not optimized, at each level's end (true/false)",
+            d.evaluate_unused_objective,
+            [](TrackerOptions& o, const bool& v) { o.evaluate_unused_objective = v; });
+  add<std::string>("--jacobian", "image gradients of the Jacobians: forward, inverse or esm",
+                   odometry::to_string(d.problem.jacobian),
+                   [](TrackerOptions& o, const std::string& v) { o.problem.jacobian = odometry::parse_jacobian_kind(v); });
+  add<int>("--threads", "threads of the per-pixel passes and the pyramid (results do not depend on it)",
+           d.problem.threads, [](TrackerOptions& o, const int& v) { o.problem.threads = v; });
   add<double>("--decrease-tolerance", "relative merit decrease that ends a level", d.relative_decrease_tolerance,
               [](TrackerOptions& o, const double& v) { o.relative_decrease_tolerance = v; });
   add<int>("--min-valid-pixels", "a level with fewer valid terms is skipped", d.min_valid_pixels,

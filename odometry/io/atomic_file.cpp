@@ -1,48 +1,127 @@
 #include "odometry/io/atomic_file.h"
 
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
+#include <cstring>
+#include <filesystem>
+#include <memory>
 #include <random>
 #include <sstream>
 
 #include "solvers/error.h"
 
 namespace bivo::odometry::io {
+namespace {
 
-std::string temporary_path_for(const std::string& path) {
-  std::random_device rd;
-  std::ostringstream s;
-  s << path << ".tmp" << std::hex << rd();
-  return s.str();
+namespace fs = std::filesystem;
+
+const char* kind_of(fs::file_type type) {
+  switch (type) {
+    case fs::file_type::symlink: return "a symbolic link";
+    case fs::file_type::directory: return "a folder";
+    case fs::file_type::fifo: return "a FIFO";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::character: return "a character device";
+    case fs::file_type::socket: return "a socket";
+    default: return "not a regular file";
+  }
 }
 
-void commit_temporary(const std::string& temporary, const std::string& path) {
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw Error("cannot write '" + path + "': rename from temporary file failed");
+// Writes `bytes` to the new file `path` (refusing an existing one: exclusive create).
+void write_new_file(const std::string& path, const std::string& target, const std::string& bytes) {
+  struct Closer {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "wbx"));
+  if (!file) {
+    throw Error("cannot write '" + target + "': " + std::strerror(errno) + " (folder missing or not writable?)");
+  }
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size() &&
+                  std::fflush(file.get()) == 0;
+  const bool closed = std::fclose(file.release()) == 0;
+  if (!ok || !closed) {
+    std::remove(path.c_str());
+    throw Error("cannot write '" + target + "': write failed (disk full?)");
+  }
+}
+
+}  // namespace
+
+void check_output_target(const std::string& path) {
+  if (path.empty()) throw Error("empty output path");
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(path, ec);
+  if (fs::exists(status) && status.type() != fs::file_type::regular) {
+    throw Error("refusing to write '" + path + "': it is " + kind_of(status.type()) +
+                ", not a regular file, and would be replaced");
+  }
+  fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  if (!fs::is_directory(folder, ec)) {
+    throw Error("cannot write '" + path + "': folder '" + folder.string() + "' does not exist");
+  }
+}
+
+void create_output_directory(const std::string& dir) {
+  if (dir.empty()) throw Error("empty output folder path");
+  std::error_code ec;
+  if (fs::is_directory(dir, ec)) return;
+  if (fs::exists(fs::symlink_status(dir, ec))) {
+    throw Error("cannot use '" + dir + "' as output folder: it exists and is not a folder");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw Error("cannot create output folder '" + dir + "': " + ec.message());
+}
+
+StagedOutputs::~StagedOutputs() {
+  for (const auto& [temporary, target] : staged_) std::remove(temporary.c_str());
+}
+
+void StagedOutputs::add(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  check_output_target(path);
+  std::ostringstream content;
+  write(content);
+  if (!content) throw Error("cannot write '" + path + "': formatting failed");
+  const std::string tmp = temporary_path_for(path);
+  write_new_file(tmp, path, content.str());
+  staged_.emplace_back(tmp, path);
+}
+
+void StagedOutputs::commit() {
+  // Check every target again before the first rename: nothing is replaced unless all can be.
+  for (const auto& [temporary, target] : staged_) check_output_target(target);
+  while (!staged_.empty()) {
+    const auto [temporary, target] = staged_.front();
+    staged_.erase(staged_.begin());
+    commit_temporary(temporary, target);
   }
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  const std::string tmp = temporary_path_for(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + path + "': directory missing or not writable");
-    try {
-      write(out);
-    } catch (...) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw;
-    }
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw Error("cannot write '" + path + "': write failed (disk full?)");
-    }
+  StagedOutputs out;
+  out.add(path, write);
+  out.commit();
+}
+
+std::string temporary_path_for(const std::string& path) {
+  std::random_device rd;
+  std::ostringstream s;
+  s << path << ".tmp" << std::hex << rd() << rd();
+  return s.str();
+}
+
+void commit_temporary(const std::string& temporary, const std::string& path) {
+  try {
+    check_output_target(path);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
   }
-  commit_temporary(tmp, path);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw Error("cannot write '" + path + "': rename from temporary file failed (" + why + ")");
+  }
 }
 
 }  // namespace bivo::odometry::io

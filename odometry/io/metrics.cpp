@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -63,31 +62,6 @@ std::string range_text(const Trajectory& t) {
 }
 
 }  // namespace
-
-std::vector<std::pair<int, int>> associate_timestamps(const std::vector<double>& a,
-                                                      const std::vector<double>& b, double max_dt) {
-  std::vector<std::tuple<double, int, int>> candidates;
-  if (!std::is_sorted(b.begin(), b.end())) throw Error("associate_timestamps: stamps must be sorted");
-  for (int i = 0; i < int(a.size()); ++i) {
-    // Only the b stamps inside (a_i - max_dt, a_i + max_dt) can be candidates.
-    for (auto it = std::lower_bound(b.begin(), b.end(), a[i] - max_dt);
-         it != b.end() && *it < a[i] + max_dt; ++it) {
-      const double d = std::abs(a[i] - *it);
-      if (d < max_dt) candidates.emplace_back(d, i, int(it - b.begin()));
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<char> used_a(a.size(), 0), used_b(b.size(), 0);
-  std::vector<std::pair<int, int>> matches;
-  for (const auto& [d, i, j] : candidates) {
-    if (used_a[i] || used_b[j]) continue;
-    used_a[i] = used_b[j] = 1;
-    matches.emplace_back(i, j);
-  }
-  std::sort(matches.begin(), matches.end(),
-            [&](const auto& x, const auto& y) { return a[x.first] < a[y.first]; });
-  return matches;
-}
 
 RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& estimate,
                               const RpeOptions& options) {

@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry/io/timestamp_matching.h"  // associate_timestamps
 #include "odometry/io/trajectory.h"
 
 namespace bivo::odometry::io {
@@ -58,11 +59,5 @@ struct AteResult {
 // of the estimate onto the ground truth (Horn 1987 / Umeyama 1991).
 AteResult absolute_trajectory_error(const Trajectory& groundtruth, const Trajectory& estimate,
                                     const AteOptions& options = {});
-
-// Greedy one-to-one timestamp association of evaluate_ate.py's associate(): candidate pairs
-// with |t_a - t_b| < max_dt, taken in order of increasing difference. Returns index pairs
-// (into a, into b) sorted by a's timestamp. b must be sorted ascending.
-std::vector<std::pair<int, int>> associate_timestamps(const std::vector<double>& a,
-                                                      const std::vector<double>& b, double max_dt);
 
 }  // namespace bivo::odometry::io

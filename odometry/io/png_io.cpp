@@ -13,6 +13,7 @@
 #include <string>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/input_limits.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry::io {
@@ -81,8 +82,8 @@ Decoded decode(const std::string& path, Want want) {
   // before setjmp, only touched through a pointer) so it is well defined after the jump.
   Decoded out;
   Decoded* result = &out;
-  std::string wrong_format;  // set when the image is valid PNG but the wrong kind
-  std::string* wrong = &wrong_format;
+  std::string refusal;  // set when the image is valid PNG but the wrong kind or too large
+  std::string* refused = &refusal;
   std::vector<png_bytep> rows;
   std::string found;  // declared before setjmp: a longjmp must not skip a destructor
 
@@ -98,10 +99,18 @@ Decoded decode(const std::string& path, Want want) {
   const int bit_depth = png_get_bit_depth(png, info);
   const int colour_type = png_get_color_type(png, info);
   found = std::to_string(bit_depth) + "-bit " + colour_type_name(colour_type);
+  try {  // our own exception, thrown and caught here: no libpng frame in between
+    check_image_size(png_get_image_width(png, info), png_get_image_height(png, info), "PNG '" + path + "'");
+  } catch (const Error& e) {
+    *refused = e.what();
+  }
 
-  if (want == Want::k16) {
+  if (!refused->empty()) {
+    // too large: nothing is decoded
+  } else if (want == Want::k16) {
     if (bit_depth != 16 || colour_type != PNG_COLOR_TYPE_GRAY) {
-      *wrong = "expected a 16-bit single-channel (gray) depth PNG, found " + found;
+      *refused = "wrong PNG format in '" + path + "': expected a 16-bit single-channel (gray) depth PNG, found " +
+                 found;
     } else {
       // PNG stores 16-bit samples big-endian; swap to host order on little-endian machines.
       const std::uint16_t probe = 1;
@@ -109,30 +118,44 @@ Decoded decode(const std::string& path, Want want) {
     }
   } else {
     if (bit_depth == 16) {
-      *wrong = "expected an 8-bit gray/RGB/RGBA/palette PNG, found " + found;
+      *refused =
+          "wrong PNG format in '" + path + "': expected an 8-bit gray/RGB/RGBA/palette PNG, found " + found;
     } else {
       if (colour_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
       if (colour_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-      if (colour_type & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(png);
+      // A palette's tRNS chunk becomes an alpha channel on expansion: dropped like any alpha.
+      if ((colour_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)) {
+        png_set_strip_alpha(png);
+      }
     }
   }
 
-  if (wrong->empty()) {
-    png_set_interlace_handling(png);
+  if (refused->empty()) {
+    const int passes = png_set_interlace_handling(png);
     png_read_update_info(png, info);
     result->width = static_cast<int>(png_get_image_width(png, info));
     result->height = static_cast<int>(png_get_image_height(png, info));
     result->channels = png_get_channels(png, info);
     result->bit_depth = png_get_bit_depth(png, info);
     result->rowbytes = png_get_rowbytes(png, info);
-    result->bytes.resize(result->rowbytes * static_cast<std::size_t>(result->height));
-    rows.resize(static_cast<std::size_t>(result->height));
-    for (int y = 0; y < result->height; ++y) rows[y] = result->bytes.data() + result->rowbytes * y;
-    png_read_image(png, rows.data());
+    const auto height = static_cast<std::size_t>(result->height);
+    if (passes > 1) {  // Adam7 fills every row in each pass: the whole image at once
+      result->bytes.resize(result->rowbytes * height);
+      rows.resize(height);
+      for (std::size_t y = 0; y < height; ++y) rows[y] = result->bytes.data() + result->rowbytes * y;
+      png_read_image(png, rows.data());
+    } else {
+      // Row by row, the buffer growing with the rows actually decoded: a truncated file
+      // claiming a huge image fails before the memory its header asks for is taken.
+      for (std::size_t y = 0; y < height; ++y) {
+        result->bytes.resize(result->rowbytes * (y + 1));
+        png_read_row(png, result->bytes.data() + result->rowbytes * y, nullptr);
+      }
+    }
     png_read_end(png, nullptr);
   }
   png_destroy_read_struct(&png, &info, nullptr);
-  if (!wrong_format.empty()) throw Error("wrong PNG format in '" + path + "': " + wrong_format);
+  if (!refusal.empty()) throw Error(refusal);
   return out;
 }
 
@@ -145,9 +168,10 @@ void encode(const std::string& path, int width, int height, int colour_type, int
     throw Error("cannot write PNG '" + path + "': empty image " + std::to_string(width) + "x" +
                 std::to_string(height));
   }
+  check_output_target(path);
   const std::string tmp = temporary_path_for(path);
-  FilePtr file(std::fopen(tmp.c_str(), "wb"));
-  if (!file) throw Error("cannot write PNG '" + path + "': directory missing or not writable");
+  FilePtr file(std::fopen(tmp.c_str(), "wbx"));
+  if (!file) throw Error("cannot write PNG '" + path + "': folder missing or not writable");
 
   ErrorSink sink;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, on_png_error, on_png_warning);

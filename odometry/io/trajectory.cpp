@@ -13,22 +13,40 @@ namespace bivo::odometry::io {
 
 Trajectory read_tum_trajectory(const std::string& path) {
   Trajectory out;
+  double previous[8] = {0};  // the last pose line's values
+  int previous_line = 0;
   for_each_tum_line(path, "trajectory", [&](const TumTextLine& l) {
     if (l.tokens.size() < 8) {
-      throw Error(tum_line_error(path, l.line_no, "expected 'timestamp tx ty tz qx qy qz qw', got '" + l.raw + "'"));
+      throw Error(tum_line_error(path, l.line_no,
+                                 "expected 'timestamp tx ty tz qx qy qz qw', got '" + excerpt(l.raw) + "'"));
     }
     if (l.tokens.size() > 8) {
-      throw Error(tum_line_error(path, l.line_no, "unexpected extra field '" + l.tokens[8] + "'"));
+      throw Error(tum_line_error(path, l.line_no, "unexpected extra field '" + excerpt(l.tokens[8]) + "'"));
     }
     double v[8];
     for (int i = 0; i < 8; ++i) v[i] = parse_tum_number(l.tokens[i], path, l.line_no, "a finite number");
-    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (q.norm() < 1e-6) throw Error(tum_line_error(path, l.line_no, "quaternion has zero norm"));
-    q.normalize();
-    if (!out.empty() && v[0] < out.back().timestamp) {
-      throw Error(tum_line_error(path, l.line_no, "timestamp " + l.tokens[0] +
-                                                      " is earlier than the previous one (list must be sorted)"));
+    // Scaled by the largest component first: squaring components above ~1e154 overflows,
+    // and normalize() of an infinite norm would silently give the identity.
+    Eigen::Vector4d c(v[4], v[5], v[6], v[7]);
+    const double largest = c.cwiseAbs().maxCoeff();
+    if (!(largest > 0) || largest * (c / largest).norm() < 1e-6) {
+      throw Error(tum_line_error(path, l.line_no, "quaternion has zero norm"));
     }
+    c /= largest;
+    const Eigen::Quaterniond q = Eigen::Quaterniond(c[3], c[0], c[1], c[2]).normalized();
+    if (!out.empty() && v[0] <= out.back().timestamp) {
+      if (v[0] < out.back().timestamp) {
+        throw Error(tum_line_error(path, l.line_no, "timestamp " + excerpt(l.tokens[0]) + " is earlier than line " +
+                                                        std::to_string(previous_line) +
+                                                        "'s (list must be sorted)"));
+      }
+      // The same pose listed twice is harmless; two poses at one instant are contradictory.
+      if (std::equal(v + 1, v + 8, previous + 1)) return;
+      throw Error(tum_line_error(path, l.line_no, "timestamp " + excerpt(l.tokens[0]) + " repeats line " +
+                                                      std::to_string(previous_line) + "'s with a different pose"));
+    }
+    std::copy(v, v + 8, previous);
+    previous_line = l.line_no;
     StampedPose p;
     p.timestamp = v[0];
     p.T_wc.linear() = q.toRotationMatrix();
@@ -39,22 +57,22 @@ Trajectory read_tum_trajectory(const std::string& path) {
   return out;
 }
 
-void write_tum_trajectory(const std::string& path, const Trajectory& trajectory) {
-  write_file_atomically(path, [&](std::ostream& o) {
-    o << "# timestamp tx ty tz qx qy qz qw (camera-to-world)\n";
-    for (const auto& p : trajectory) {
-      const Eigen::Vector3d t = p.T_wc.translation();
-      Eigen::Quaterniond q(p.T_wc.linear());
-      q.normalize();
-      if (!t.allFinite() || !q.coeffs().allFinite()) {
-        throw Error("refusing to write a non-finite pose at t=" + std::to_string(p.timestamp) +
-                    " to '" + path + "'");
-      }
-      o << std::fixed << std::setprecision(6) << p.timestamp << std::setprecision(9) << ' '
-        << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
-        << ' ' << q.w() << '\n';
+void write_tum_trajectory(std::ostream& o, const Trajectory& trajectory, const std::string& path) {
+  o << "# timestamp tx ty tz qx qy qz qw (camera-to-world)\n";
+  for (const auto& p : trajectory) {
+    const Eigen::Vector3d t = p.T_wc.translation();
+    Eigen::Quaterniond q(p.T_wc.linear());
+    q.normalize();
+    if (!std::isfinite(p.timestamp) || !t.allFinite() || !q.coeffs().allFinite()) {
+      throw Error("refusing to write a non-finite pose at t=" + std::to_string(p.timestamp) + " to '" + path + "'");
     }
-  });
+    o << std::fixed << std::setprecision(6) << p.timestamp << std::setprecision(9) << ' ' << t.x() << ' ' << t.y()
+      << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+  }
+}
+
+void write_tum_trajectory(const std::string& path, const Trajectory& trajectory) {
+  write_file_atomically(path, [&](std::ostream& o) { write_tum_trajectory(o, trajectory, path); });
 }
 
 const StampedPose* nearest_pose(const Trajectory& trajectory, double t, double max_dt) {

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <tuple>
 
 #include "odometry/io/png_io.h"
+#include "odometry/io/timestamp_matching.h"
 #include "odometry/io/tum_text.h"
 #include "solvers/error.h"
 
@@ -29,15 +29,17 @@ std::vector<ListedFile> read_file_list(const std::string& path) {
     const auto& tokens = l.tokens;
     const int line_no = l.line_no;
     if (tokens.size() != 2) {
-      throw Error(tum_line_error(path, line_no, "expected 'timestamp filename', got '" + l.raw + "'"));
+      throw Error(tum_line_error(path, line_no, "expected 'timestamp filename', got '" + excerpt(l.raw) + "'"));
     }
     ListedFile f;
     f.timestamp = parse_tum_number(tokens[0], path, line_no, "a timestamp");
     f.file = tokens[1];
     f.line = line_no;
-    if (!out.empty() && f.timestamp < out.back().timestamp) {
-      throw Error(path + ":" + std::to_string(line_no) + ": timestamp " + tokens[0] +
-                  " is earlier than the previous one (list must be sorted)");
+    if (!out.empty() && f.timestamp <= out.back().timestamp) {
+      const std::string relation = f.timestamp == out.back().timestamp ? " repeats" : " is earlier than";
+      throw Error(tum_line_error(path, line_no, "timestamp " + excerpt(tokens[0]) + relation + " line " +
+                                                    std::to_string(out.back().line) +
+                                                    "'s (list must be strictly increasing)"));
     }
     out.push_back(f);
   });
@@ -49,24 +51,10 @@ std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
                                              const std::vector<ListedFile>& depth,
                                              const std::string& directory, double max_dt) {
   if (!(max_dt > 0.0)) throw Error("association max dt must be positive, got " + std::to_string(max_dt));
-  // Candidates: for each rgb entry the depth entries within max_dt (both lists sorted).
-  std::vector<std::tuple<double, int, int>> candidates;
-  std::size_t lo = 0;
-  for (std::size_t i = 0; i < rgb.size(); ++i) {
-    while (lo < depth.size() && depth[lo].timestamp <= rgb[i].timestamp - max_dt) ++lo;
-    for (std::size_t j = lo; j < depth.size() && depth[j].timestamp < rgb[i].timestamp + max_dt; ++j) {
-      candidates.emplace_back(std::abs(depth[j].timestamp - rgb[i].timestamp), int(i), int(j));
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<char> rgb_used(rgb.size(), 0), depth_used(depth.size(), 0);
-  std::vector<std::pair<int, int>> matches;
-  for (const auto& [dt, i, j] : candidates) {
-    if (rgb_used[i] || depth_used[j]) continue;
-    rgb_used[i] = depth_used[j] = 1;
-    matches.emplace_back(i, j);
-  }
-  std::sort(matches.begin(), matches.end());
+  std::vector<double> rgb_stamps, depth_stamps;
+  for (const auto& f : rgb) rgb_stamps.push_back(f.timestamp);
+  for (const auto& f : depth) depth_stamps.push_back(f.timestamp);
+  const auto matches = associate_timestamps(rgb_stamps, depth_stamps, max_dt);
   std::vector<AssociatedFrame> out;
   out.reserve(matches.size());
   for (const auto& [i, j] : matches) {
@@ -89,7 +77,7 @@ std::vector<AssociatedFrame> read_associations(const std::string& path, const st
     const int line_no = l.line_no;
     const std::string where = path + ":" + std::to_string(line_no);
     if (tokens.size() != 4) {
-      throw Error(where + ": expected 't_rgb rgb_file t_depth depth_file', got '" + l.raw + "'");
+      throw Error(where + ": expected 't_rgb rgb_file t_depth depth_file', got '" + excerpt(l.raw) + "'");
     }
     AssociatedFrame f;
     f.rgb_time = parse_tum_number(tokens[0], path, line_no, "a timestamp");
@@ -102,8 +90,10 @@ std::vector<AssociatedFrame> read_associations(const std::string& path, const st
                   std::to_string(std::abs(f.rgb_time - f.depth_time)) + " s (limit " + std::to_string(max_dt) +
                   " s)");
     }
-    if (!out.empty() && f.rgb_time < out.back().rgb_time) {
-      throw Error(where + ": timestamp " + tokens[0] + " is earlier than the previous one (list must be sorted)");
+    if (!out.empty() && f.rgb_time <= out.back().rgb_time) {
+      throw Error(where + ": rgb timestamp " + excerpt(tokens[0]) +
+                  (f.rgb_time == out.back().rgb_time ? " repeats" : " is earlier than") +
+                  " the previous line's (list must be strictly increasing)");
     }
     out.push_back(f);
   });
@@ -122,12 +112,14 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
   const std::string associations = join(directory, "associations.txt");
   if (fs::exists(associations)) {
     seq.frames = read_associations(associations, directory, options.max_association_dt);
+    seq.list_files = {associations};
   } else {
     const std::string rgb_list = join(directory, "rgb.txt");
     const std::string depth_list = join(directory, "depth.txt");
     const auto rgb = read_file_list(rgb_list);
     const auto depth = read_file_list(depth_list);
     seq.frames = associate_lists(rgb, depth, directory, options.max_association_dt);
+    seq.list_files = {rgb_list, depth_list};
     if (seq.frames.empty()) {
       throw Error("no rgb/depth association within " + std::to_string(options.max_association_dt) +
                   " s between '" + rgb_list + "' (" + std::to_string(rgb.size()) + " entries) and '" +
@@ -138,7 +130,10 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
     seq.frames.resize(static_cast<std::size_t>(options.max_frames));
   }
   const std::string gt = join(directory, "groundtruth.txt");
-  if (fs::exists(gt)) seq.groundtruth = read_tum_trajectory(gt);
+  if (fs::exists(gt)) {
+    seq.groundtruth = read_tum_trajectory(gt);
+    seq.list_files.push_back(gt);
+  }
   return seq;
 }
 

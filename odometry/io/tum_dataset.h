@@ -22,8 +22,8 @@ struct ListedFile {
 };
 
 // Reads a TUM file list; '#' comments, blank lines and CRLF are tolerated. Throws
-// bivo::Error naming file and line on a malformed line, a non-finite or decreasing
-// timestamp, and on an empty list.
+// bivo::Error naming file and line on a malformed line, a non-finite, repeated or
+// decreasing timestamp, an empty list, and more lines than input_limits() allow.
 std::vector<ListedFile> read_file_list(const std::string& path);
 
 struct AssociatedFrame {
@@ -33,14 +33,15 @@ struct AssociatedFrame {
 };
 
 // Pairs each rgb entry with the depth entry of nearest timestamp, one to one, greedily in
-// order of increasing |dt| (as TUM's associate.py), keeping pairs with |dt| < max_dt; the
-// result is sorted by rgb time. Paths are joined to `directory`.
+// order of increasing |dt| (as TUM's associate.py, associate_timestamps), keeping pairs with
+// |dt| < max_dt; the result is sorted by rgb time. Paths are joined to `directory`.
 std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
                                              const std::vector<ListedFile>& depth,
                                              const std::string& directory, double max_dt);
 
 // Reads associations.txt lines "t_rgb rgb_file t_depth depth_file" (associate.py output).
-// Throws on malformed lines, |t_rgb - t_depth| >= max_dt, unsorted or empty lists.
+// Throws on malformed lines, |t_rgb - t_depth| >= max_dt, rgb times not strictly increasing
+// or empty lists.
 std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory,
                                                double max_dt);
 
@@ -56,6 +57,7 @@ struct TumSequence {
   Intrinsics intrinsics;
   std::vector<AssociatedFrame> frames;     // sorted by rgb time
   std::optional<Trajectory> groundtruth;   // when groundtruth.txt exists
+  std::vector<std::string> list_files;     // the text files read (lists, groundtruth.txt)
 };
 
 // associations.txt when present, otherwise rgb.txt + depth.txt associated by timestamp.

@@ -14,9 +14,14 @@ struct TumTextLine {
   std::string raw;  // the line as read, for error messages
 };
 
-// Calls on_line for every data line. Throws bivo::Error "cannot open <what> '<path>'".
+// Calls on_line for every data line. Throws bivo::Error "cannot open/read <what> '<path>'",
+// and when the file has more data lines than input_limits().max_list_entries.
 void for_each_tum_line(const std::string& path, const std::string& what,
                        const std::function<void(const TumTextLine&)>& on_line);
+
+// `text` cut to at most 80 characters ("..." appended): what error messages quote of a
+// line or token, so that a message stays short whatever the input holds.
+std::string excerpt(const std::string& text);
 
 // "<path>:<line>: <message>", the prefix of every parse error.
 std::string tum_line_error(const std::string& path, int line_no, const std::string& message);

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <vector>
 
+#include "odometry/io/input_limits.h"
 #include "odometry/synth/random.h"
 #include "solvers/error.h"
 #include "solvers/se3.h"
@@ -69,6 +70,13 @@ io::Trajectory generate_handheld_motion(const HandheldMotionOptions& o) {
       !(o.tremor_share >= 0 && o.tremor_share < 1)) {
     throw Error("hand-held motion: invalid speed, frequency or tremor parameters");
   }
+  const double samples = o.duration_s * o.rate_hz;
+  if (!(samples < static_cast<double>(io::input_limits().max_list_entries))) {
+    std::ostringstream m;
+    m << "hand-held motion: " << o.duration_s << " s at " << o.rate_hz << " Hz is more than "
+      << io::input_limits().max_list_entries << " poses (the list limit; raise with --max-list-entries)";
+    throw Error(m.str());
+  }
   HashRng rng(o.seed, 0x68616e64ull);  // "hand"
   const auto trans = random_band(rng, o.sinusoids_per_axis, o.min_frequency_hz, o.max_frequency_hz,
                                  o.translation_axis_weights, 1.0 - o.tremor_share);
@@ -108,7 +116,9 @@ io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_of
                                const std::string& source, double max_gap_s) {
   if (frames < 1) throw Error("need at least 1 frame, got " + std::to_string(frames));
   if (!(fps > 0)) throw Error("frame rate must be positive, got " + std::to_string(fps));
-  if (!(start_offset_s >= 0)) throw Error("start offset must be >= 0 s, got " + std::to_string(start_offset_s));
+  if (!(start_offset_s >= 0 && std::isfinite(start_offset_s))) {
+    throw Error("start offset must be finite and >= 0 s, got " + std::to_string(start_offset_s));
+  }
   if (motion.size() < 2) {
     throw Error("trajectory '" + source + "' has " + std::to_string(motion.size()) +
                 " pose(s); at least 2 are needed to interpolate frame poses");

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
+#include "odometry/io/input_limits.h"
 #include "odometry/synth/noise_field.h"
 #include "odometry/synth/random.h"
 #include "solvers/error.h"
@@ -58,18 +60,53 @@ Hit cast(const std::vector<CameraPanel>& panels, const Eigen::Vector3d& ray) {
   return best;
 }
 
+// Throws unless lo <= value <= hi (NaN fails every comparison, so it is refused too).
+void check_range(double value, double lo, double hi, const char* what) {
+  if (!(value >= lo && value <= hi)) {
+    std::ostringstream m;
+    m << "render settings: " << what << " must be in [" << lo << ", " << hi << "], got " << value;
+    throw Error(m.str());
+  }
+}
+
 }  // namespace
+
+void validate(const RenderSettings& s) {
+  const double kBig = std::numeric_limits<double>::max();
+  const PinholeCamera& cam = s.camera;
+  io::check_image_size(cam.width, cam.height, "render settings: camera");
+  check_range(cam.fx, 1e-3, kBig, "fx");
+  check_range(cam.fy, 1e-3, kBig, "fy");
+  check_range(cam.cx, -kBig, kBig, "cx");
+  check_range(cam.cy, -kBig, kBig, "cy");
+  check_range(s.supersampling, 1, 8, "supersampling");
+  const DepthSensorModel& d = s.depth;
+  check_range(d.noise_coeff, 0, 1e3, "depth noise coefficient [1/m]");
+  check_range(d.baseline_m, 1e-6, 1e3, "baseline [m]");
+  check_range(d.disparity_step_px, 0, 1e3, "disparity step [px]");
+  check_range(d.min_range_m, 0, 1e4, "minimum range [m]");
+  if (!(d.max_range_m > d.min_range_m)) {
+    std::ostringstream m;
+    m << "render settings: maximum range " << d.max_range_m << " m must exceed the minimum range " << d.min_range_m
+      << " m";
+    throw Error(m.str());
+  }
+  check_range(d.max_range_m, 0, 1e4, "maximum range [m]");
+  check_range(d.max_incidence_deg, 0, 90, "maximum incidence [deg]");
+  check_range(d.occlusion_jump_rel, 0, 1e3, "occlusion jump (relative)");
+  check_range(d.occlusion_band_px, 0, 64, "occlusion band [px]");
+  const IntensitySensorModel& im = s.intensity;
+  check_range(im.read_noise, 0, 1e4, "read noise [gray levels]");
+  check_range(im.shot_noise_gain, 0, 1e4, "shot-noise gain");
+  // exp(2 x 8 sigma) ~ 1e7 keeps every exposed radiance finite in float.
+  check_range(im.exposure_jitter, 0, 2, "exposure jitter (sigma of the log gain)");
+  check_range(im.full_scale, 1e-3, 1e4, "full scale [gray levels]");
+}
 
 RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, const RenderSettings& settings,
                            std::uint64_t frame_index) {
   const PinholeCamera& cam = settings.camera;
-  if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0) || !(cam.fy > 0)) {
-    throw Error("render_frame: invalid camera " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
-                " fx=" + std::to_string(cam.fx) + " fy=" + std::to_string(cam.fy));
-  }
-  if (settings.supersampling < 1 || settings.supersampling > 8) {
-    throw Error("render_frame: supersampling must be in 1..8, got " + std::to_string(settings.supersampling));
-  }
+  validate(settings);
   if (!T_wc.matrix().allFinite()) throw Error("render_frame: non-finite camera pose");
 
   const Eigen::Matrix3d R_cw = T_wc.linear().transpose();

@@ -30,6 +30,11 @@ struct RenderedFrame {
   double valid_depth_fraction = 0.0;   // share of pixels with a depth measurement
 };
 
+// Throws bivo::Error naming the setting when a camera or sensor parameter is outside its
+// range (NaN, negative noise, max range <= min range, an image above input_limits()...).
+// render_frame checks; callers rendering many frames check once before any work.
+void validate(const RenderSettings& settings);
+
 // Renders the scene seen by a camera at pose T_wc (camera-to-world). `frame_index` selects
 // the noise realization (with settings.noise_seed), so frames are reproducible one by one.
 RenderedFrame render_frame(const Scene& scene, const Eigen::Isometry3d& T_wc, const RenderSettings& settings,

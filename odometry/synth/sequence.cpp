@@ -1,6 +1,7 @@
 #include "odometry/synth/sequence.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -13,6 +14,7 @@
 
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/input_limits.h"
 #include "odometry/io/png_io.h"
 #include "solvers/error.h"
 
@@ -119,9 +121,30 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
   };
 }
 
+// Every option is checked before any work: motion generation, rendering or a file.
 void validate(const SynthOptions& o) {
   if (o.frames < 1) throw Error("synth: --frames must be >= 1, got " + std::to_string(o.frames));
-  if (!(o.fps > 0)) throw Error("synth: fps must be positive, got " + std::to_string(o.fps));
+  // A sequence whose lists its own reader would refuse is useless.
+  io::check_list_size(o.frames, "synth: --frames " + std::to_string(o.frames));
+  // Frame files are named by their timestamps at 1e-6 s: faster frames would share names.
+  if (!(o.fps > 0 && o.fps <= 1e6)) {
+    std::ostringstream m;
+    m << "synth: --fps must be in (0, 1e6] (timestamps have 1e-6 s resolution), got " << o.fps;
+    throw Error(m.str());
+  }
+  if (!(o.start_offset_s >= 0 && std::isfinite(o.start_offset_s))) {
+    std::ostringstream m;
+    m << "synth: --start must be a finite number of seconds >= 0, got " << o.start_offset_s;
+    throw Error(m.str());
+  }
+  if (o.threads < 0 || o.threads > 256) {
+    throw Error("synth: --threads must be in 0..256, got " + std::to_string(o.threads));
+  }
+  try {
+    synth::validate(o.render);
+  } catch (const Error& e) {
+    throw Error(std::string("synth: ") + e.what());
+  }
   const std::string name = o.sequence_name.empty() ? default_sequence_name(o.category) : o.sequence_name;
   // Readers pick intrinsics from the sequence name: it must select the rendering camera.
   const io::Intrinsics preset = io::intrinsics_for_sequence(name);
@@ -165,6 +188,14 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
   Eigen::Isometry3d anchor;
   const io::Trajectory planned = frame_poses(o, scene, motion, motion_source, &anchor);
   const int ref = o.anchor_frame < 0 ? o.frames / 2 : o.anchor_frame;
+  // Timestamps name the frame files and are written with 1e-6 s resolution: two frames
+  // with one stamp would overwrite each other's images (and make the lists invalid).
+  for (int k = 1; k < o.frames; ++k) {
+    if (stamp(planned[k].timestamp) == stamp(planned[k - 1].timestamp)) {
+      throw Error("synth: frames " + std::to_string(k - 1) + " and " + std::to_string(k) + " both have timestamp " +
+                  stamp(planned[k].timestamp) + " (1e-6 s resolution): lower --fps or --start");
+    }
+  }
 
   const fs::path final_dir = fs::path(output_dir) / name;
   const fs::path tmp_dir = fs::path(output_dir) / (name + ".tmp-render");
@@ -250,10 +281,19 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
 }
 
 std::string render_sequence(const SynthOptions& o, const std::string& output_dir) {
+  validate(o);  // before the motion is generated for the requested span
   HandheldMotionOptions h = o.handheld;
   h.seed = o.seed;
   // Cover the requested frames plus one second of slack.
-  h.duration_s = std::max(h.duration_s, o.start_offset_s + (o.frames - 1) / o.fps + 1.0);
+  const double span = o.start_offset_s + (o.frames - 1) / o.fps + 1.0;
+  if (!(span * h.rate_hz < static_cast<double>(io::input_limits().max_list_entries))) {
+    std::ostringstream m;
+    m << "synth: --start " << o.start_offset_s << " s and --frames " << o.frames << " at --fps " << o.fps
+      << " need " << span << " s of generated motion, more than " << io::input_limits().max_list_entries
+      << " poses at " << h.rate_hz << " Hz (the list limit; raise with --max-list-entries)";
+    throw Error(m.str());
+  }
+  h.duration_s = std::max(h.duration_s, span);
   return render_sequence(o, generate_handheld_motion(h), output_dir,
                          "generated hand-held motion (seed " + std::to_string(o.seed) + ")");
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "solvers/error.h"
@@ -9,9 +11,14 @@
 namespace bivo::solvers::conic {
 
 int ConeSpec::dim() const {
-  int d = nonnegative;
+  // Summed in 64 bits: dimensions that add up past 2^31 must not wrap to a valid row count.
+  std::int64_t d = nonnegative;
   for (int m : soc) d += m;
-  return d;
+  if (d > std::numeric_limits<int>::max()) {
+    throw Error("cone: dimensions sum to " + std::to_string(d) + ", more than " +
+                std::to_string(std::numeric_limits<int>::max()) + " rows");
+  }
+  return static_cast<int>(d);
 }
 
 double soc_det(const double* u, int m) {
@@ -23,14 +30,17 @@ double soc_det(const double* u, int m) {
 
 ConeProduct::ConeProduct(ConeSpec spec) : spec_(std::move(spec)) {
   if (spec_.nonnegative < 0) throw Error("cone: negative orthant dimension " + std::to_string(spec_.nonnegative));
-  dim_ = spec_.nonnegative;
   for (std::size_t k = 0; k < spec_.soc.size(); ++k) {
     if (spec_.soc[k] < 1) {
       throw Error("cone: second-order cone #" + std::to_string(k) + " has dimension " +
                   std::to_string(spec_.soc[k]) + " (must be >= 1)");
     }
-    soc_offset_.push_back(dim_);
-    dim_ += spec_.soc[k];
+  }
+  dim_ = spec_.dim();  // throws when the sum does not fit an int
+  int offset = spec_.nonnegative;
+  for (int m : spec_.soc) {
+    soc_offset_.push_back(offset);
+    offset += m;
   }
 }
 

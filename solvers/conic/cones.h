@@ -14,7 +14,7 @@ namespace bivo::solvers::conic {
 struct ConeSpec {
   int nonnegative = 0;       // dimension l of the orthant (rows first in G, h)
   std::vector<int> soc;      // second-order cone dimensions, each >= 1, in row order
-  int dim() const;
+  int dim() const;           // sum of all dimensions; bivo::Error when it exceeds INT_MAX
   int degree() const { return nonnegative + static_cast<int>(soc.size()); }
 };
 

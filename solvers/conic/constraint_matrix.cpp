@@ -1,21 +1,98 @@
 #include "solvers/conic/constraint_matrix.h"
 
+#include <algorithm>
+
+#include "solvers/conic/dense_kernels.h"
+
 namespace bivo::solvers::conic {
 
-ConstraintMatrix::ConstraintMatrix(const SparseMatrix& G, double dense_fill, int dense_max_cols) : G_(G) {
+namespace {
+
+// One timed, counted pass over G.
+struct GPass {
+  explicit GPass(IpmClock* clock) : scope(clock, IpmPhase::kGPasses) {
+    if (scope.active()) ++clock->timings().g_passes;
+  }
+  PhaseScope scope;
+};
+
+// Dense products by blocks of rows: a block of every column stays in L1, so G x writes its
+// result once (not once per column, as a column-major GEMV does) and G^T v reads v once.
+constexpr Eigen::Index kBlock = 512;
+
+// out(0 .. count) (= or +=) a G(begin .. begin + count, :) x
+void dense_gx(const Eigen::MatrixXd& G, Eigen::Index begin, Eigen::Index count, const double* x, double a,
+              bool accumulate, double* out) {
+  const Eigen::Index cols = G.cols();
+  for (Eigen::Index i0 = 0; i0 < count; i0 += kBlock) {
+    const Eigen::Index len = std::min(kBlock, count - i0);
+    Eigen::Index j = 0;
+    if (!accumulate) {
+      kernels::scaled_copy(len, a * x[0], G.col(0).data() + begin + i0, out + i0);
+      j = 1;
+    }
+    for (; j < cols; ++j) kernels::axpy(len, a * x[j], G.col(j).data() + begin + i0, out + i0);
+  }
+}
+
+// out += a G(begin .. begin + count, :)^T v
+void dense_gtv(const Eigen::MatrixXd& G, Eigen::Index begin, Eigen::Index count, const double* v, double a,
+               double* out) {
+  const Eigen::Index cols = G.cols();
+  for (Eigen::Index j = 0; j < cols; ++j) out[j] += a * kernels::dot(count, G.col(j).data() + begin, v);
+}
+
+}  // namespace
+
+ConstraintMatrix::ConstraintMatrix(const SparseMatrix& G, double dense_fill, int dense_max_cols) {
+  build(G, nullptr, nullptr, dense_fill, dense_max_cols);
+}
+
+ConstraintMatrix::ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd& row_scale,
+                                   const Eigen::VectorXd& col_scale, double dense_fill, int dense_max_cols) {
+  build(G, &row_scale, &col_scale, dense_fill, dense_max_cols);
+}
+
+void ConstraintMatrix::build(const SparseMatrix& G, const Eigen::VectorXd* row_scale, const Eigen::VectorXd* col_scale,
+                             double dense_fill, int dense_max_cols) {
+  rows_ = static_cast<int>(G.rows());
+  cols_ = static_cast<int>(G.cols());
   const double cells = static_cast<double>(G.rows()) * static_cast<double>(G.cols());
   dense_ = G.cols() > 0 && G.rows() > 0 && G.cols() <= dense_max_cols &&
            static_cast<double>(G.nonZeros()) >= dense_fill * cells;
+  auto value = [&](int i, int j, double v) { return row_scale ? v * (*row_scale)[i] * (*col_scale)[j] : v; };
   if (dense_) {
-    Gd_ = Eigen::MatrixXd(G);
+    Gd_.setZero(rows_, cols_);
+    const int* inner = G.innerIndexPtr();
+    const double* val = G.valuePtr();
+    for (int j = 0; j < cols_; ++j) {
+      double* col = Gd_.col(j).data();
+      const int begin = G.outerIndexPtr()[j];
+      const int end = G.isCompressed() ? G.outerIndexPtr()[j + 1] : begin + G.innerNonZeroPtr()[j];
+      if (row_scale) {
+        const double* rs = row_scale->data();
+        const double cs = (*col_scale)[j];
+        for (int e = begin; e < end; ++e) col[inner[e]] += val[e] * rs[inner[e]] * cs;
+      } else {
+        for (int e = begin; e < end; ++e) col[inner[e]] += val[e];
+      }
+    }
   } else {
-    Gr_ = G;
+    G_ = G;
+    G_.makeCompressed();
+    if (row_scale) {
+      for (int j = 0; j < G_.outerSize(); ++j) {
+        for (SparseMatrix::InnerIterator it(G_, j); it; ++it) it.valueRef() = value(static_cast<int>(it.row()), j, it.value());
+      }
+    }
+    Gr_ = G_;
   }
 }
 
 void ConstraintMatrix::multiply(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> out) const {
+  const GPass pass(clock_);
   if (dense_) {
-    out.noalias() = Gd_ * x;
+    dense_gx(Gd_, 0, rows_, x.data(), 1.0, false, out.data());
   } else {
     out.noalias() = Gr_ * x;
   }
@@ -23,8 +100,9 @@ void ConstraintMatrix::multiply(const Eigen::Ref<const Eigen::VectorXd>& x, Eige
 
 void ConstraintMatrix::add_multiply(double a, const Eigen::Ref<const Eigen::VectorXd>& x,
                                     Eigen::Ref<Eigen::VectorXd> out) const {
+  const GPass pass(clock_);
   if (dense_) {
-    out.noalias() += a * (Gd_ * x);
+    dense_gx(Gd_, 0, rows_, x.data(), a, true, out.data());
   } else {
     out.noalias() += a * (Gr_ * x);
   }
@@ -32,8 +110,10 @@ void ConstraintMatrix::add_multiply(double a, const Eigen::Ref<const Eigen::Vect
 
 void ConstraintMatrix::multiply_transpose(const Eigen::Ref<const Eigen::VectorXd>& v,
                                           Eigen::Ref<Eigen::VectorXd> out) const {
+  const GPass pass(clock_);
   if (dense_) {
-    out.noalias() = Gd_.transpose() * v;
+    out.setZero();
+    dense_gtv(Gd_, 0, rows_, v.data(), 1.0, out.data());
   } else {
     out.noalias() = G_.transpose() * v;
   }
@@ -41,8 +121,9 @@ void ConstraintMatrix::multiply_transpose(const Eigen::Ref<const Eigen::VectorXd
 
 void ConstraintMatrix::add_multiply_transpose(double a, const Eigen::Ref<const Eigen::VectorXd>& v,
                                               Eigen::Ref<Eigen::VectorXd> out) const {
+  const GPass pass(clock_);
   if (dense_) {
-    out.noalias() += a * (Gd_.transpose() * v);
+    dense_gtv(Gd_, 0, rows_, v.data(), a, out.data());
   } else {
     out.noalias() += a * (G_.transpose() * v);
   }
@@ -51,8 +132,9 @@ void ConstraintMatrix::add_multiply_transpose(double a, const Eigen::Ref<const E
 void ConstraintMatrix::add_rows_multiply_transpose(int begin, int count, double a,
                                                    const Eigen::Ref<const Eigen::VectorXd>& v,
                                                    Eigen::Ref<Eigen::VectorXd> out) const {
+  const GPass pass(clock_);
   if (dense_) {
-    out.noalias() += a * (Gd_.middleRows(begin, count).transpose() * v);
+    dense_gtv(Gd_, begin, count, v.data(), a, out.data());
   } else {
     out.noalias() += a * (Gr_.middleRows(begin, count).transpose() * v);
   }
@@ -68,12 +150,27 @@ RowMajorMatrix ConstraintMatrix::sparse_rows(int begin, int count) const {
   return Gr_.middleRows(begin, count);
 }
 
+const Eigen::MatrixXd& ConstraintMatrix::dense_gram(int begin, int count) const {
+  Eigen::MatrixXd& g = dense_grams_[{begin, count}];
+  if (g.size() > 0 || cols() == 0) return g;
+  g.setZero(cols(), cols());
+  if (dense_) {
+    for (int j = 0; j < cols(); ++j) {
+      for (int k = 0; k <= j; ++k) {
+        g(j, k) = g(k, j) = kernels::dot(count, Gd_.col(j).data() + begin, Gd_.col(k).data() + begin);
+      }
+    }
+  } else {
+    g = Eigen::MatrixXd(gram(begin, count));
+  }
+  return g;
+}
+
 const SparseMatrix& ConstraintMatrix::gram(int begin, int count) const {
   SparseMatrix& g = grams_[{begin, count}];
   if (g.size() > 0 || cols() == 0) return g;
   if (dense_) {
-    const Eigen::MatrixXd d = Gd_.middleRows(begin, count).transpose() * Gd_.middleRows(begin, count);
-    g = d.sparseView();
+    g = dense_gram(begin, count).sparseView();
   } else {
     const SparseMatrix block = Gr_.middleRows(begin, count);
     g = SparseMatrix(block.transpose()) * block;

@@ -6,11 +6,13 @@
 // 6 Jacobian entries, 7 columns) a dense column-major copy turns both into vectorized
 // BLAS-2 products at the same memory. Otherwise: G by columns for G^T v (a dot per
 // column) and by rows for G x (a dot per row), so neither product scatters.
+// The matrix is a copy, optionally equilibrated on the way in (E G D in one sweep).
 #include <map>
 #include <utility>
 
 #include <Eigen/Core>
 
+#include "solvers/conic/ipm_timings.h"
 #include "solvers/conic/problem_data.h"
 
 namespace bivo::solvers::conic {
@@ -21,12 +23,18 @@ class ConstraintMatrix {
  public:
   // Dense when nnz >= dense_fill * rows * cols and cols <= dense_max_cols.
   explicit ConstraintMatrix(const SparseMatrix& G, double dense_fill = 0.5, int dense_max_cols = 64);
+  // The copy is diag(row_scale) G diag(col_scale).
+  ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
+                   double dense_fill = 0.5, int dense_max_cols = 64);
 
+  // By columns, compressed; only when !dense() (a dense G keeps no sparse copy).
   const SparseMatrix& sparse() const { return G_; }
   const RowMajorMatrix& by_rows() const { return Gr_; }
+  const Eigen::MatrixXd& dense_matrix() const { return Gd_; }
   bool dense() const { return dense_; }
-  int rows() const { return static_cast<int>(G_.rows()); }
-  int cols() const { return static_cast<int>(G_.cols()); }
+  int rows() const { return rows_; }
+  int cols() const { return cols_; }
+  double coeff(int row, int col) const { return dense_ ? Gd_(row, col) : G_.coeff(row, col); }
 
   // out = G x (assigned), out -= G x, out = G^T v, out += / -= G^T v.
   void multiply(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> out) const;
@@ -44,13 +52,22 @@ class ConstraintMatrix {
   // G(rows)^T G(rows) of a row block (exact zeros dropped), by a dense product when G is dense;
   // formed on first request and kept (the KKT system and the polisher share a cone's).
   const SparseMatrix& gram(int begin, int count) const;
+  const Eigen::MatrixXd& dense_gram(int begin, int count) const;
+  // Products are timed (and counted) as IpmPhase::kGPasses on this clock; null = untimed.
+  void set_clock(IpmClock* clock) const { clock_ = clock; }
 
  private:
-  const SparseMatrix& G_;
+  void build(const SparseMatrix& G, const Eigen::VectorXd* row_scale, const Eigen::VectorXd* col_scale,
+             double dense_fill, int dense_max_cols);
+
+  mutable IpmClock* clock_ = nullptr;
+  SparseMatrix G_;
   RowMajorMatrix Gr_;
   Eigen::MatrixXd Gd_;
   bool dense_ = false;
+  int rows_ = 0, cols_ = 0;
   mutable std::map<std::pair<int, int>, SparseMatrix> grams_;
+  mutable std::map<std::pair<int, int>, Eigen::MatrixXd> dense_grams_;
 };
 
 }  // namespace bivo::solvers::conic

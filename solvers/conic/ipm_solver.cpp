@@ -46,20 +46,30 @@ IpmStatus classify(const Residuals& r, double feastol, double abstol, double rel
 
 class Solver {
  public:
-  Solver(const ConicProblem& original, const IpmSettings& settings)
-      : op_(original), st_(settings), sp_(original) {
+  Solver(const ConicProblem& original, const IpmSettings& settings, IpmClock* clock)
+      : op_(original), st_(settings), clock_(clock) {
+    PhaseScope phase(clock_, IpmPhase::kEquilibration);
+    // The scaled problem: c, A, b, h copied and scaled here; G only once, scaled on the way
+    // into its product layout (ConstraintMatrix).
     const int n = original.num_variables();
+    sp_.c = original.c;
+    sp_.A = original.A;
+    sp_.b = original.b;
+    sp_.h = original.h;
+    sp_.cones = original.cones;
     if (sp_.A.cols() != n) sp_.A.resize(0, n);
-    if (sp_.G.cols() != n) sp_.G.resize(0, n);
-    eq_ = st_.equilibration_passes > 0 ? equilibrate(sp_, st_.equilibration_passes) : identity_equilibration(sp_);
+    sp_.G.resize(0, n);
+    eq_ = equilibration_factors(original, st_.equilibration_passes);
+    scale_vectors_and_equalities(sp_, eq_);
     sp_.A.makeCompressed();  // the KKT system reads the compressed arrays directly
-    sp_.G.makeCompressed();
     cones_ = std::make_unique<ConeProduct>(sp_.cones);
     KktSettings ks;
     ks.static_regularization = st_.static_regularization;
     ks.max_refinement_steps = st_.max_refinement_steps;
-    gmat_ = std::make_unique<ConstraintMatrix>(sp_.G);
-    kkt_ = std::make_unique<KktSystem>(sp_.A, *gmat_, *cones_, ks);
+    const SparseMatrix empty(original.num_cone_rows(), n);
+    gmat_ = std::make_unique<ConstraintMatrix>(original.G.cols() == n ? original.G : empty, eq_.row_cone, eq_.col);
+    gmat_->set_clock(clock_);
+    kkt_ = std::make_unique<KktSystem>(sp_.A, *gmat_, *cones_, ks, clock_);
     if (st_.polish) polisher_ = std::make_unique<Polisher>(sp_, *gmat_, *cones_);
     n_ = n;
     p_ = sp_.num_equalities();
@@ -84,7 +94,7 @@ class Solver {
   IpmResult stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
     if (st_.log) *st_.log << "stopped: " << where << "\n";
     v_ = best;
-    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
+    residuals(v_, r_);
     const IpmStatus verdict = classify(r_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate);
     // The polished point may meet the strict tolerances, or at least the reduced ones with a
     // far more accurate x (the full form's stall: relative gap 1e-11, x only to 1e-5).
@@ -92,11 +102,39 @@ class Solver {
         try_polish(v_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate)) {
       IpmResult res = finish(IpmStatus::kOptimal, polished_, iterations);
       res.reduced_accuracy = classify(r_, st_.feastol, st_.abstol, st_.reltol) != IpmStatus::kOptimal;
+      if (res.reduced_accuracy) explain_reduced_accuracy(polished_, res);
       return res;
     }
     IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
     res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
+    if (res.reduced_accuracy) explain_reduced_accuracy(v_, res);
     return res;
+  }
+  // Which strict tolerance the accepted point misses, and whether double precision could
+  // have met it at all (residual_floors).
+  void explain_reduced_accuracy(const Variables& v, IpmResult& res) {
+    const ResidualFloors f = residual_floors(sp_, *gmat_, op_, eq_, v);
+    res.primal_residual_floor = f.primal;
+    res.dual_residual_floor = f.dual;
+    char buf[200];
+    std::string why;
+    auto add = [&](const char* what, double value, double tol, double floor) {
+      if (!(value > tol)) return;
+      std::snprintf(buf, sizeof buf, "%s%s %.1e > %.1e", why.empty() ? "" : ", ", what, value, tol);
+      why += buf;
+      if (floor > 0.0 && tol < floor) {
+        std::snprintf(buf, sizeof buf, " (below its rounding floor %.1e)", floor);
+        why += buf;
+      }
+    };
+    add("primal residual", res.primal_residual, st_.feastol, f.primal);
+    add("dual residual", res.dual_residual, st_.feastol, f.dual);
+    if (!(res.gap < st_.abstol || res.relative_gap < st_.reltol)) {
+      std::snprintf(buf, sizeof buf, "%sgap %.1e (relative %.1e) above abstol %.1e / reltol %.1e", why.empty() ? "" : ", ",
+                    res.gap, res.relative_gap, st_.abstol, st_.reltol);
+      why += buf;
+    }
+    res.note = why;
   }
   IpmResult trouble(const char* where, int iterations) {
     return stop_early(IpmStatus::kNumericalTrouble, where, last_good_, iterations);
@@ -107,8 +145,15 @@ class Solver {
   void log_header() const;
   void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const;
 
+  // Residuals and stopping measures, timed.
+  void residuals(const Variables& v, Residuals& r) {
+    PhaseScope phase(clock_, IpmPhase::kResiduals);
+    compute_residuals(sp_, *gmat_, op_, eq_, v, r);
+  }
+
   const ConicProblem& op_;
   IpmSettings st_;
+  IpmClock* clock_;
   ConicProblem sp_;
   Equilibration eq_;
   std::unique_ptr<ConeProduct> cones_;
@@ -133,6 +178,7 @@ class Solver {
 
 bool Solver::initialize() {
   v_.resize(n_, p_, m_);
+  kkt_->set_full_refinement(false);  // a heuristic start: the reduced system's accuracy will do
   if (!kkt_->factor(cones_->identity_scaling())) return false;
   Eigen::VectorXd rhs(n_ + p_ + m_), sol;
   // Primal start: min ||G x - h||^2 s.t. A x = b, s = h - G x shifted into K.
@@ -146,6 +192,7 @@ bool Solver::initialize() {
   v_.y = sol.segment(n_, p_);
   v_.z = sol.tail(m_);
   if (m_ > 0) {
+    PhaseScope phase(clock_, IpmPhase::kCones);
     const double es = cones_->min_eigenvalue(v_.s);
     if (es <= 0.0) cones_->add_identity(v_.s, 1.0 - es);
     const double ez = cones_->min_eigenvalue(v_.z);
@@ -159,7 +206,10 @@ bool Solver::initialize() {
 bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine) {
   const double f = 1.0 - sigma;
   Eigen::VectorXd& wbs = wbs_;
-  cones_->apply_w(w_, bs, wbs);
+  {
+    PhaseScope phase(clock_, IpmPhase::kCones);
+    cones_->apply_w(w_, bs, wbs);
+  }
   Eigen::VectorXd& rhs = rhs_;
   Eigen::VectorXd& sol = sol_;
   rhs.resize(n_ + p_ + m_);
@@ -171,7 +221,10 @@ bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direc
   d.dx.noalias() = sol.head(n_) + d.dtau * x1_.head(n_);
   d.dy.noalias() = sol.segment(n_, p_) + d.dtau * x1_.segment(n_, p_);
   d.dz.noalias() = sol.tail(m_) + d.dtau * x1_.tail(m_);
-  cones_->apply_w(w_, d.dz, d.dz_scaled);
+  {
+    PhaseScope phase(clock_, IpmPhase::kCones);
+    cones_->apply_w(w_, d.dz, d.dz_scaled);
+  }
   d.ds_scaled.noalias() = bs - d.dz_scaled;
   d.dkappa = (rk - kappa * d.dtau) / tau;
   return std::isfinite(d.dtau) && d.dx.allFinite() && d.dz.allFinite() && d.ds_scaled.allFinite();
@@ -180,6 +233,7 @@ bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direc
 double Solver::max_step(const Direction& d) const {
   double a = std::numeric_limits<double>::infinity();
   if (m_ > 0) {
+    PhaseScope phase(clock_, IpmPhase::kCones);
     a = std::min(a, cones_->max_step(lambda_, d.ds_scaled));
     a = std::min(a, cones_->max_step(lambda_, d.dz_scaled));
   }
@@ -219,7 +273,10 @@ IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
 }
 
 bool Solver::try_polish(const Variables& v, double feastol, double abstol, double reltol) {
-  if (!polisher_ || !polisher_->polish(v, polished_)) return false;
+  if (!polisher_) return false;
+  PhaseScope phase(clock_, IpmPhase::kPolish);
+  if (clock_) ++clock_->timings().polish_attempts;
+  if (!polisher_->polish(v, polished_)) return false;
   compute_residuals(sp_, *gmat_, op_, eq_, polished_, polished_r_);
   if (classify(polished_r_, feastol, abstol, reltol) != IpmStatus::kOptimal) return false;
   if (st_.log) {
@@ -256,14 +313,14 @@ void Solver::log_iteration(int k, const Residuals& r, double mu, double step, do
 IpmResult Solver::run() {
   log_header();
   if (!initialize()) {
-    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
+    residuals(v_, r_);
     return finish(IpmStatus::kNumericalTrouble, v_, 0);
   }
   last_good_ = v_;
   double step = 0.0, sigma = 0.0;
   const Eigen::VectorXd e = cones_->identity();
   for (int k = 0;; ++k) {
-    compute_residuals(sp_, *gmat_, op_, eq_, v_, r_);
+    residuals(v_, r_);
     const double mu = (v_.s.dot(v_.z) + v_.tau * v_.kappa) / (cones_->degree() + 1);
     log_iteration(k, r_, mu, step, sigma);
     if (!std::isfinite(r_.primal_residual) || !std::isfinite(r_.dual_residual) || !std::isfinite(mu)) {
@@ -289,8 +346,12 @@ IpmResult Solver::run() {
       return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
+    kkt_->set_full_refinement(best_score_ < st_.full_refinement_from);
 
-    if (!cones_->compute_scaling(v_.s, v_.z, w_, lambda_)) return trouble("scaling", k);
+    {
+      PhaseScope phase(clock_, IpmPhase::kCones);
+      if (!cones_->compute_scaling(v_.s, v_.z, w_, lambda_)) return trouble("scaling", k);
+    }
     if (!kkt_->factor(w_)) return trouble("factor", k);
     if (!kkt_->solve(cbh_, x1_)) return trouble("solve", k);
     // -[c; b; h]^T x1 = ||W z1||^2 > 0 (exactly, for the unregularized system).
@@ -303,15 +364,21 @@ IpmResult Solver::run() {
     const double a_aff = std::min(1.0, max_step(aff));
     sigma = std::clamp(std::pow(1.0 - a_aff, 3), 1e-4, 1.0);
     // Corrector: centering sigma mu plus Mehrotra's second-order term.
-    cones_->jordan_product(lambda_, lambda_, ll_);
-    cones_->jordan_product(aff.ds_scaled, aff.dz_scaled, corr_);
-    rc_ = -ll_ + sigma * mu * e - corr_;
-    cones_->jordan_divide(lambda_, rc_, bs_);
+    {
+      PhaseScope phase(clock_, IpmPhase::kCones);
+      cones_->jordan_product(lambda_, lambda_, ll_);
+      cones_->jordan_product(aff.ds_scaled, aff.dz_scaled, corr_);
+      rc_ = -ll_ + sigma * mu * e - corr_;
+      cones_->jordan_divide(lambda_, rc_, bs_);
+    }
     const double rk = -v_.kappa * v_.tau + sigma * mu - aff.dkappa * aff.dtau;
     if (!direction(sigma, bs_, rk, cor)) return trouble("corrector", k);
     step = std::min(1.0, st_.step_fraction * max_step(cor));
     Eigen::VectorXd& ds = ds_;
-    cones_->apply_w(w_, cor.ds_scaled, ds);
+    {
+      PhaseScope phase(clock_, IpmPhase::kCones);
+      cones_->apply_w(w_, cor.ds_scaled, ds);
+    }
     // Rounding can push s or z out of K by a hair near the boundary: back off if so.
     bool moved = false;
     for (int tries = 0; tries < 20 && step > 1e-12; ++tries, step *= 0.5) {
@@ -319,7 +386,10 @@ IpmResult Solver::run() {
       if (!(tau > 0.0 && kappa > 0.0)) continue;
       trial_s_ = v_.s + step * ds;
       trial_z_ = v_.z + step * cor.dz;
-      if (m_ > 0 && !(cones_->interior(trial_s_) && cones_->interior(trial_z_))) continue;
+      {
+        PhaseScope phase(clock_, IpmPhase::kCones);
+        if (m_ > 0 && !(cones_->interior(trial_s_) && cones_->interior(trial_z_))) continue;
+      }
       v_.x += step * cor.dx;
       v_.y += step * cor.dy;
       v_.s.swap(trial_s_);
@@ -335,12 +405,23 @@ IpmResult Solver::run() {
 
 }  // namespace
 
+std::string status_text(const IpmResult& r) {
+  std::string s = to_string(r.status);
+  if (r.reduced_accuracy) s += " (reduced accuracy" + (r.note.empty() ? std::string() : ": " + r.note) + ")";
+  return s;
+}
+
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
-  validate(problem);
-  const auto t0 = std::chrono::steady_clock::now();
-  Solver solver(problem, settings);
-  IpmResult r = solver.run();
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  IpmTimings timings;
+  IpmClock clock(timings);
+  {
+    PhaseScope phase(&clock, IpmPhase::kValidation);
+    validate(problem);
+  }
+  IpmResult r = Solver(problem, settings, &clock).run();
+  clock.enter(IpmPhase::kOther);  // charges the time since the last switch
+  r.timings = timings;
+  r.seconds = timings.total_seconds();
   return r;
 }
 

@@ -10,10 +10,12 @@
 // Exit flags: see IpmStatus. The solver never returns NaN: a NaN or failed factorization
 // ends with kNumericalTrouble and the last finite iterate.
 #include <iosfwd>
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "solvers/conic/ipm_timings.h"
 #include "solvers/conic/problem_data.h"
 
 namespace bivo::solvers::conic {
@@ -37,9 +39,14 @@ struct IpmSettings {
   int max_refinement_steps = 5;
   // Active-set Newton polishing (polish.h), tried at every iteration once the residuals and
   // the (absolute or relative) gap are below polish_from; a polished point is returned only
-  // when it meets the tolerances above, else the iterations go on.
+  // when it meets the tolerances above, else the iterations go on. A failed try costs little
+  // (Newton on quadratic forms first, polish.h), so by default it is tried from the start
+  // (the iterate after initialization).
   bool polish = true;
-  double polish_from = 1e-1;
+  double polish_from = std::numeric_limits<double>::infinity();
+  // Refined KKT solves check against the unexpanded system (passes over G) once the best
+  // iterate's residuals and gap are below this; before, refinement runs on the reduced system.
+  double full_refinement_from = 1e-4;
   std::ostream* log = nullptr;    // per-iteration log when set
 };
 
@@ -50,15 +57,23 @@ struct IpmResult {
   Eigen::VectorXd x, y, z, s;
   double primal_objective = 0.0, dual_objective = 0.0;
   double primal_residual = 0.0, dual_residual = 0.0, gap = 0.0, relative_gap = 0.0;
-  bool reduced_accuracy = false;  // met only the *_inaccurate tolerances
+  bool reduced_accuracy = false;  // met only the *_inaccurate tolerances; `note` says which
+                                  // strict tolerance failed and whether it is below what
+                                  // double precision can resolve (its rounding floor)
+  double primal_residual_floor = 0.0, dual_residual_floor = 0.0;  // set with reduced_accuracy
+  std::string note;
   bool polished = false;          // the solution is the polished point (polish.h) ...
   int polish_newton_steps = 0;    // ... after this many Newton steps
   int iterations = 0;
   double seconds = 0.0;
+  IpmTimings timings;             // seconds by phase (they sum to `seconds`) and pass counts
   long kkt_factor_nonzeros = 0;
 };
 
 // Validates the problem (bivo::Error on bad input), then solves it.
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings = {});
+
+// The exit in words: "optimal", "optimal (reduced accuracy: ...)", "primal infeasible", ...
+std::string status_text(const IpmResult& result);
 
 }  // namespace bivo::solvers::conic

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 extern "C" {
@@ -13,21 +14,19 @@ extern "C" {
 
 namespace bivo::solvers::conic {
 
-namespace {
-
 // q-hat = q1 / ||q1|| of a cone's scaling, or 0 when q1 = 0 (then c+ = c- = 0 and the
 // expansion columns decouple; any unit vector would do).
-bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
+static bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
 
-}  // namespace
-
-KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings)
-    : A_(A), G_(Gm), cones_(cones), settings_(settings) {
-  const SparseMatrix& G = Gm.sparse();
-  if (!G.isCompressed() || !A.isCompressed()) throw Error("conic KKT: A and G must be compressed");
-  n_ = static_cast<int>(std::max(A.cols(), G.cols()));
+KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings,
+                     IpmClock* clock)
+    : A_(A), G_(Gm), cones_(cones), settings_(settings), clock_(clock) {
+  PhaseScope setup_phase(clock_, IpmPhase::kKktSetup);
+  const SparseMatrix& G = Gm.sparse();  // empty when Gm is dense
+  if (!A.isCompressed()) throw Error("conic KKT: A must be compressed");
+  n_ = std::max(static_cast<int>(A.cols()), Gm.cols());
   p_ = static_cast<int>(A.rows());
-  m_ = static_cast<int>(G.rows());
+  m_ = Gm.rows();
   nsoc_ = cones.soc_count();
   R_ = n_ + p_ + 2 * nsoc_;
   const int l = cones.spec().nonnegative;
@@ -36,7 +35,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
     for (int i = 0; i < cones.spec().soc[k]; ++i) cone_of_row_[cones.soc_offset(k) + i] = k;
   }
   const int pk0 = n_ + p_;  // p_k = pk0 + 2k, q_k = pk0 + 2k + 1
-
   // G_k^T G_k per cone (constant: the z pivots of cone k are all -beta_k^2), the orthant
   // rows' outer products, and the columns each cone couples to (nonzero columns of G_k).
   const RowMajorMatrix Gl = Gm.sparse_rows(0, l);
@@ -48,7 +46,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
       if (gram[k].coeff(j, j) > 0.0) couple[k].push_back(j);
     }
   }
-
   std::vector<std::pair<int, int>> entries;  // (col, row), both triangles
   auto add = [&](int r, int c) {
     entries.emplace_back(c, r);
@@ -90,7 +87,6 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   for (int j = 0; j < R_; ++j) {
     for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = slot(j, Ki_[s]);
   }
-
   // Constant values: +-delta and A; then the lists updated per factorization.
   base_.assign(Ki_.size(), 0.0);
   const double delta = settings_.static_regularization;
@@ -126,7 +122,7 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
       couple_col_.push_back(j);
       couple_p_slot_.push_back(slot(j, pk0 + 2 * k));
       couple_q_slot_.push_back(slot(j, pk0 + 2 * k + 1));
-      head_row_.push_back(G.coeff(o, j));
+      head_row_.push_back(Gm.coeff(o, j));
     }
     couple_begin_[k + 1] = static_cast<int>(couple_col_.size());
     p_diag_.push_back(slot(pk0 + 2 * k, pk0 + 2 * k));
@@ -150,8 +146,8 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   inv_d_.assign(m_, 1.0);
   scale_p_.assign(nsoc_, 0.0);
   scale_q_.assign(nsoc_, 0.0);
-
   // Fill-reducing ordering once (the pattern never changes), x and y before p and q.
+  PhaseScope ordering_phase(clock_, IpmPhase::kOrdering);
   std::vector<int> constraint(R_, 0);
   for (int j = pk0; j < R_; ++j) constraint[j] = 1;
   P_.assign(R_, 0);
@@ -167,6 +163,7 @@ KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const Co
   sign_.assign(R_, -1.0);
   for (int j = 0; j < n_; ++j) sign_[j] = 1.0;
   for (int k = 0; k < nsoc_; ++k) sign_[pk0 + 2 * k + 1] = 1.0;
+  PhaseScope symbolic_phase(clock_, IpmPhase::kSymbolic);
   Lp_.assign(R_ + 1, 0);
   Parent_.assign(R_, 0);
   Lnz_.assign(R_, 0);
@@ -195,12 +192,16 @@ int KktSystem::slot(int row, int col) const {
 double KktSystem::z_pivot(double d) {
   if (d > settings_.dynamic_threshold) return d;
   ++dynamic_pivots_;
+  z_regularized_ = true;
   return settings_.dynamic_regularization;
 }
 
 bool KktSystem::factor(const NtScaling& w) {
+  PhaseScope phase(clock_, IpmPhase::kKktFactor);
+  if (clock_) ++clock_->timings().kkt_factors;
   w_ = w;
   dynamic_pivots_ = 0;
+  z_regularized_ = false;
   const int l = cones_.spec().nonnegative;
   for (int r = 0; r < l; ++r) inv_d_[r] = 1.0 / z_pivot(w.orthant_w[r] * w.orthant_w[r]);
   Kx_ = base_;
@@ -241,7 +242,7 @@ bool KktSystem::factor(const NtScaling& w) {
   if (G_.dense()) {
     for (int k = 0; k < nsoc_; ++k) {
       const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-      if (d < 2) continue;
+      if (d < 2 || !has_direction(w.soc[k], d)) continue;  // q-hat = 0 (e.g. W = I): G^T q-hat = 0
       gq_full_.setZero(n_);
       G_.add_rows_multiply_transpose(o + 1, d - 1, 1.0, qhat_.segment(o + 1, d - 1), gq_full_);
       for (int c = couple_begin_[k]; c < couple_begin_[k + 1]; ++c) gq_[c] = gq_full_[couple_col_[c]];
@@ -332,37 +333,46 @@ bool KktSystem::numeric_with_dynamic_regularization() {
 
 // z eliminated: dz = D^-1 (G dx + V dp + U dq - rz); the reduced right-hand side is
 // [rx + G^T D^-1 rz; ry; V^T D^-1 rz; U^T D^-1 rz].
-void KktSystem::reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol) {
+void KktSystem::reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red) {
   const int pk0 = n_ + p_;
-  sol.resize(n_ + p_ + m_);
-  if (m_ > 0) {
+  red.resize(R_);
+  // A zero z part (the initial dual start's right-hand side) needs no pass over G.
+  if (m_ > 0 && !r.tail(m_).isZero(0.0)) {
     tz_ = r.tail(m_).cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
-    G_.multiply_transpose(tz_, red_.head(n_));
-    red_.head(n_) += r.head(n_);
+    G_.multiply_transpose(tz_, red.head(n_));
+    red.head(n_) += r.head(n_);
   } else {
-    red_.head(n_) = r.head(n_);
+    red.head(n_) = r.head(n_);
   }
-  red_.segment(n_, p_) = r.segment(n_, p_);
+  red.segment(n_, p_) = r.segment(n_, p_);
   for (int k = 0; k < nsoc_; ++k) {
     const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
     const double head = r[n_ + p_ + o];
     const double cross = d > 1 ? qhat_.segment(o + 1, d - 1).dot(r.segment(n_ + p_ + o + 1, d - 1)) : 0.0;
-    red_[pk0 + 2 * k] = scale_p_[k] * (head - cross);
-    red_[pk0 + 2 * k + 1] = scale_q_[k] * (head + cross);
+    red[pk0 + 2 * k] = scale_p_[k] * (head - cross);
+    red[pk0 + 2 * k + 1] = scale_q_[k] * (head + cross);
   }
-  ldl_perm(R_, red_perm_.data(), red_.data(), P_.data());
+}
+
+void KktSystem::ldl_solve(Eigen::VectorXd& red) {
+  ldl_perm(R_, red_perm_.data(), red.data(), P_.data());
   ldl_lsolve(R_, red_perm_.data(), Lp_.data(), Li_.data(), Lx_.data());
   ldl_dsolve(R_, red_perm_.data(), D_.data());
   ldl_ltsolve(R_, red_perm_.data(), Lp_.data(), Li_.data(), Lx_.data());
-  ldl_permt(R_, red_.data(), red_perm_.data(), P_.data());
-  sol.head(n_ + p_) = red_.head(n_ + p_);
+  ldl_permt(R_, red.data(), red_perm_.data(), P_.data());
+}
+
+void KktSystem::back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& red, Eigen::VectorXd& sol) {
+  const int pk0 = n_ + p_;
+  sol.resize(n_ + p_ + m_);
+  sol.head(n_ + p_) = red.head(n_ + p_);
   if (m_ == 0) return;
   auto dz = sol.tail(m_);
-  G_.multiply(red_.head(n_), dz);
+  G_.multiply(red.head(n_), dz);
   dz -= r.tail(m_);
   for (int k = 0; k < nsoc_; ++k) {
     const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-    const double a = scale_p_[k] * red_[pk0 + 2 * k], b = scale_q_[k] * red_[pk0 + 2 * k + 1];
+    const double a = scale_p_[k] * red[pk0 + 2 * k], b = scale_q_[k] * red[pk0 + 2 * k + 1];
     // V dp + U dq = (a g + b f) * pivot; dz below gets D^-1 = 1/pivot.
     const double beta2 = 1.0 / inv_d_[o];
     dz[o] += beta2 * (a + b);
@@ -371,8 +381,30 @@ void KktSystem::reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol) {
   dz = dz.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
 }
 
+void KktSystem::reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol) {
+  PhaseScope phase(clock_, IpmPhase::kKktSolve);
+  reduced_rhs(r, red_);
+  ldl_solve(red_);
+  back_substitute(r, red_, sol);
+}
+
+// rhs - K v for the reduced matrix without the static regularization (+delta on x, -delta
+// on y), i.e. the exact Schur complement of the unexpanded system's z block.
+void KktSystem::reduced_residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  PhaseScope phase(clock_, IpmPhase::kRefinement);
+  out = rhs;
+  for (int j = 0; j < R_; ++j) {
+    const double vj = v[j];
+    for (int q = Kp_[j]; q < Kp_[j + 1]; ++q) out[Ki_[q]] -= Kx_[q] * vj;
+  }
+  const double delta = settings_.static_regularization;
+  out.head(n_) += delta * v.head(n_);
+  out.segment(n_, p_) -= delta * v.segment(n_, p_);
+}
+
 // rhs - K v for the unregularized, unexpanded K.
 void KktSystem::residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+  PhaseScope phase(clock_, IpmPhase::kRefinement);
   const int nr = n_ + p_ + m_;
   out.resize(nr);
   const double* vz = v.data() + n_ + p_;
@@ -406,31 +438,63 @@ void KktSystem::residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, E
 }
 
 bool KktSystem::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, bool refine) {
-  if (!refine) {
-    reduced_solve(rhs, sol);
-    last_refine_ = 0;
-    return sol.allFinite();
-  }
-  const int nr = n_ + p_ + m_;
-  sol.setZero(nr);
-  res_ = rhs;
-  const double target = settings_.refinement_tolerance * (1.0 + rhs.lpNorm<Eigen::Infinity>());
-  double last_norm = std::numeric_limits<double>::infinity();
+  PhaseScope phase(clock_, IpmPhase::kKktSolve);
+  if (clock_) ++clock_->timings().kkt_solves;
   last_refine_ = 0;
-  for (int step = 0; step <= settings_.max_refinement_steps; ++step) {
+  if (!refine || z_regularized_) {
+    reduced_solve(rhs, sol);
+    if (!refine) return sol.allFinite();
+    return refine_full(rhs, sol);
+  }
+  // Without a regularized z pivot the reduced system is exactly the unexpanded one with z
+  // eliminated, so refinement runs on it (O(nnz) of the small reduced matrix per step, no
+  // pass over G): it removes the static and the dynamic regularization of the factors.
+  reduced_rhs(rhs, red_rhs_);
+  red_ = red_rhs_;
+  ldl_solve(red_);
+  const double target = settings_.refinement_tolerance * (1.0 + red_rhs_.lpNorm<Eigen::Infinity>());
+  double last_norm = std::numeric_limits<double>::infinity();
+  for (int step = 1; step <= settings_.max_refinement_steps + 1; ++step) {
+    reduced_residual(red_rhs_, red_, red_res_);
+    const double norm = red_res_.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(norm)) return false;
+    if (norm >= last_norm) {  // stalled: go back to the better iterate
+      red_ = red_best_;
+      break;
+    }
+    last_norm = norm;
+    if (norm <= target || step > settings_.max_refinement_steps) break;
+    red_best_ = red_;
+    if (clock_) ++clock_->timings().refinement_steps;
+    ldl_solve(red_res_);
+    red_ += red_res_;
+    last_refine_ = step;
+  }
+  back_substitute(rhs, red_, sol);
+  if (!full_refinement_) return sol.allFinite();
+  return refine_full(rhs, sol);
+}
+
+// Refinement against the unregularized, unexpanded K (a pass over G per residual): when a z
+// pivot was regularized the reduced system is not the true one.
+bool KktSystem::refine_full(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol) {
+  const double target = settings_.refinement_tolerance * (1.0 + rhs.lpNorm<Eigen::Infinity>());
+  residual(rhs, sol, res_);
+  double last_norm = res_.lpNorm<Eigen::Infinity>();
+  if (!std::isfinite(last_norm)) return false;
+  for (int step = 1; step <= settings_.max_refinement_steps && last_norm > target; ++step) {
+    if (clock_) ++clock_->timings().refinement_steps;
     reduced_solve(res_, cand_);
     cand_ += sol;
     residual(rhs, cand_, new_res_);
     const double norm = new_res_.lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(norm)) return step > 0;
-    if (norm >= last_norm) break;  // refinement stalled: keep the better iterate
+    if (!std::isfinite(norm) || norm >= last_norm) break;  // stalled: keep the better iterate
     sol.swap(cand_);
     res_.swap(new_res_);
     last_norm = norm;
     last_refine_ = step;
-    if (norm <= target) break;
   }
-  return std::isfinite(last_norm);
+  return sol.allFinite();
 }
 
 }  // namespace bivo::solvers::conic

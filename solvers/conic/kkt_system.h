@@ -19,14 +19,16 @@
 // the nearly singular direction of W^2 sits in the p pivot, computed exactly as
 // -(q0 - ||q1||)^2), its elimination tree comes from SuiteSparse ldl_symbolic, and the
 // numeric LDL^T adds ECOS-style dynamic regularization (SuiteSparse's ldl_numeric has
-// none). Solutions are polished by iterative refinement against the unregularized,
-// unexpanded K.
+// none). Solutions are polished by iterative refinement on the reduced system without its
+// regularization (exact: z is eliminated in closed form), or, when a z pivot itself had
+// to be regularized, against the unregularized, unexpanded K.
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/constraint_matrix.h"
+#include "solvers/conic/ipm_timings.h"
 #include "solvers/conic/problem_data.h"
 
 namespace bivo::solvers::conic {
@@ -41,7 +43,9 @@ struct KktSettings {
 
 class KktSystem {
  public:
-  KktSystem(const SparseMatrix& A, const ConstraintMatrix& G, const ConeProduct& cones, KktSettings settings);
+  // clock (may be null): set-up, factorizations, solves and refinement are timed on it.
+  KktSystem(const SparseMatrix& A, const ConstraintMatrix& G, const ConeProduct& cones, KktSettings settings,
+            IpmClock* clock = nullptr);
 
   // Numeric factorization for scaling W; false if LDL meets a non-finite pivot.
   bool factor(const NtScaling& w);
@@ -49,6 +53,11 @@ class KktSystem {
   // Returns false when the refined residual is still not finite. refine = false: one
   // solve with the factors, no residual (for directions that need no full accuracy).
   bool solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol, bool refine = true);
+
+  // Refined solves check (and refine) against the unexpanded K too; off, they refine on the
+  // reduced system only (no pass over G), which is exact but for rounding in forming it:
+  // enough for directions far from the solution, not for the last digits.
+  void set_full_refinement(bool on) { full_refinement_ = on; }
 
   int size() const { return n_ + p_ + m_; }
   int reduced_size() const { return R_; }
@@ -59,6 +68,11 @@ class KktSystem {
  private:
   void residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out);  // rhs - K v
   void reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol);  // one solve with the factors
+  void reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red);     // z eliminated (a pass over G^T)
+  void ldl_solve(Eigen::VectorXd& red);                                  // in place, with the factors
+  void back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& red, Eigen::VectorXd& sol);  // dz (a pass over G)
+  void reduced_residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out);
+  bool refine_full(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol);
   bool numeric_with_dynamic_regularization();
   double z_pivot(double d);  // d, or dynamic_regularization when d is below the threshold
   int slot(int row, int col) const;  // position of (row, col) in the reduced CSC
@@ -67,6 +81,7 @@ class KktSystem {
   const ConstraintMatrix& G_;
   const ConeProduct& cones_;
   KktSettings settings_;
+  IpmClock* clock_;
   int n_, p_, m_, nsoc_, R_;
   NtScaling w_;
   std::vector<int> cone_of_row_;  // -1 on the orthant
@@ -95,9 +110,11 @@ class KktSystem {
   std::vector<double> Lx_, D_, Y_;
   std::vector<double> sign_;  // expected pivot sign per unpermuted reduced unknown
   // Buffers reused across solves.
-  Eigen::VectorXd red_, red_perm_, tz_, res_, cand_, new_res_, z_, w2z_;
+  Eigen::VectorXd red_, red_perm_, red_rhs_, red_res_, red_best_, tz_, res_, cand_, new_res_;
   int last_refine_ = 0;
   int dynamic_pivots_ = 0;
+  bool z_regularized_ = false;
+  bool full_refinement_ = true;  // a z pivot got the dynamic regularization this factorization
 };
 
 }  // namespace bivo::solvers::conic

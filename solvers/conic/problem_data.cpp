@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
+#include "solvers/conic/dense_kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::solvers::conic {
@@ -11,6 +13,7 @@ namespace bivo::solvers::conic {
 namespace {
 
 void check_finite(const Eigen::VectorXd& v, const char* what) {
+  if (kernels::all_finite(v.size(), v.data())) return;  // the common case, vectorized
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i])) {
       throw Error(std::string("conic problem: ") + what + "[" + std::to_string(i) +
@@ -20,6 +23,7 @@ void check_finite(const Eigen::VectorXd& v, const char* what) {
 }
 
 void check_finite(const SparseMatrix& M, const char* what) {
+  if (M.isCompressed() && kernels::all_finite(M.nonZeros(), M.valuePtr())) return;
   for (int j = 0; j < M.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
       if (!std::isfinite(it.value())) {
@@ -80,56 +84,96 @@ Equilibration identity_equilibration(const ConicProblem& p) {
           Eigen::VectorXd::Ones(p.num_cone_rows())};
 }
 
-Equilibration equilibrate(ConicProblem& p, int passes) {
+Equilibration equilibration_factors(const ConicProblem& p, int passes) {
   Equilibration e = identity_equilibration(p);
-  const int n = p.num_variables(), me = p.num_equalities(), mc = p.num_cone_rows();
+  if (passes <= 0) return e;
+  const int n = p.num_variables(), me = p.num_equalities(), l = p.cones.nonnegative;
+  const ConeProduct cones(p.cones);
+  // Block of each cone row: l orthant rows, then one block per second-order cone; the
+  // equality rows come first in the block numbering.
+  std::vector<int> block_of_row(p.num_cone_rows());
+  for (int i = 0; i < l; ++i) block_of_row[i] = me + i;
+  for (int k = 0; k < cones.soc_count(); ++k) {
+    for (int i = 0; i < p.cones.soc[k]; ++i) block_of_row[cones.soc_offset(k) + i] = me + l + k;
+  }
+  const int nb = me + l + cones.soc_count();
+  // Block maxima by columns (a cone's rows are contiguous and sorted within a column of G,
+  // so a block is one run of entries; its max is a tight loop over the values).
+  std::vector<int> block_end(nb - me);  // per cone block: one past its last row
+  for (int i = 0; i < l; ++i) block_end[i] = i + 1;
+  for (int k = 0; k < cones.soc_count(); ++k) block_end[l + k] = cones.soc_offset(k) + p.cones.soc[k];
+  std::vector<int> start(n + 1, 0), block;
+  std::vector<double> bmax;
+  for (int j = 0; j < n; ++j) {
+    if (j < p.A.outerSize()) {
+      for (SparseMatrix::InnerIterator it(p.A, j); it; ++it) {
+        block.push_back(static_cast<int>(it.row()));
+        bmax.push_back(std::abs(it.value()));
+      }
+    }
+    if (j < p.G.outerSize()) {
+      const int* inner = p.G.innerIndexPtr();
+      const double* val = p.G.valuePtr();
+      const int begin = p.G.outerIndexPtr()[j];
+      const int end = p.G.isCompressed() ? p.G.outerIndexPtr()[j + 1] : begin + p.G.innerNonZeroPtr()[j];
+      for (int e = begin; e < end;) {
+        const int b = block_of_row[inner[e]], last = block_end[b - me];
+        const int run_end = static_cast<int>(std::lower_bound(inner + e, inner + end, last) - inner);
+        block.push_back(b);
+        bmax.push_back(kernels::max_abs(run_end - e, val + e));
+        e = run_end;
+      }
+    }
+    start[j + 1] = static_cast<int>(block.size());
+  }
   // A scale of 0 (empty row/column) stays 1; each pass is bounded to avoid overflow on
   // pathological data.
   auto inv_sqrt = [](double v) { return v > 0.0 ? std::clamp(1.0 / std::sqrt(v), 1e-4, 1e4) : 1.0; };
-  const ConeProduct cones(p.cones);
-  Eigen::VectorXd col_max = Eigen::VectorXd::Zero(n), rowa = Eigen::VectorXd::Zero(me),
-                  rowg = Eigen::VectorXd::Zero(mc);
-  Eigen::VectorXd dc = Eigen::VectorXd::Ones(n), da = Eigen::VectorXd::Ones(me), dg = Eigen::VectorXd::Ones(mc);
-  // One sweep over each matrix per pass: apply the previous pass's factors and take the
-  // infinity norms of the result (the last sweep only applies).
-  bool balanced = false;  // every factor of the last pass within 1 % of 1: stop early
-  for (int pass = 0; pass <= passes; ++pass) {
-    const bool last = pass == passes || balanced;
-    col_max.setZero();
-    rowa.setZero();
-    rowg.setZero();
-    auto sweep = [&](SparseMatrix& M, const Eigen::VectorXd& dr, Eigen::VectorXd& row_max) {
-      for (int j = 0; j < M.outerSize(); ++j) {
-        double cm = col_max[j];
-        for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
-          const double v = it.valueRef() *= dr[it.row()] * dc[j];
-          if (last) continue;
-          const double a = std::abs(v);
-          cm = std::max(cm, a);
-          row_max[it.row()] = std::max(row_max[it.row()], a);
-        }
-        col_max[j] = cm;
+  std::vector<double> col(n, 1.0), row(nb, 1.0), col_max(n), row_max(nb);
+  for (int pass = 0; pass < passes; ++pass) {
+    std::fill(row_max.begin(), row_max.end(), 0.0);
+    for (int j = 0; j < n; ++j) {
+      double cm = 0.0;
+      for (int q = start[j]; q < start[j + 1]; ++q) {
+        const double a = bmax[q] * row[block[q]] * col[j];
+        cm = std::max(cm, a);
+        row_max[block[q]] = std::max(row_max[block[q]], a);
       }
-    };
-    sweep(p.A, da, rowa);
-    sweep(p.G, dg, rowg);
-    p.c = p.c.cwiseProduct(dc);
-    p.b = p.b.cwiseProduct(da);
-    p.h = p.h.cwiseProduct(dg);
-    e.col = e.col.cwiseProduct(dc);
-    e.row_eq = e.row_eq.cwiseProduct(da);
-    e.row_cone = e.row_cone.cwiseProduct(dg);
-    if (last) break;
-    // One factor per second-order cone: scaling rows of a cone differently would change K.
-    for (int k = 0; k < cones.soc_count(); ++k) {
-      const int o = cones.soc_offset(k), m = p.cones.soc[k];
-      rowg.segment(o, m).setConstant(rowg.segment(o, m).maxCoeff());
+      col_max[j] = cm;
     }
-    for (int j = 0; j < n; ++j) dc[j] = inv_sqrt(col_max[j]);
-    for (int i = 0; i < me; ++i) da[i] = inv_sqrt(rowa[i]);
-    for (int i = 0; i < mc; ++i) dg[i] = inv_sqrt(rowg[i]);
-    auto near_one = [](const Eigen::VectorXd& d) { return d.size() == 0 || (d.array() - 1.0).abs().maxCoeff() < 1e-2; };
-    balanced = near_one(dc) && near_one(da) && near_one(dg);
+    bool balanced = true;  // every factor of this pass within 1 % of 1: stop
+    for (int j = 0; j < n; ++j) {
+      const double f = inv_sqrt(col_max[j]);
+      balanced = balanced && std::abs(f - 1.0) < 1e-2;
+      col[j] *= f;
+    }
+    for (int b = 0; b < nb; ++b) {
+      const double f = inv_sqrt(row_max[b]);
+      balanced = balanced && std::abs(f - 1.0) < 1e-2;
+      row[b] *= f;
+    }
+    if (balanced) break;
+  }
+  for (int j = 0; j < n; ++j) e.col[j] = col[j];
+  for (int i = 0; i < me; ++i) e.row_eq[i] = row[i];
+  for (int i = 0; i < p.num_cone_rows(); ++i) e.row_cone[i] = row[block_of_row[i]];
+  return e;
+}
+
+void scale_vectors_and_equalities(ConicProblem& p, const Equilibration& e) {
+  p.c = p.c.cwiseProduct(e.col);
+  p.b = p.b.cwiseProduct(e.row_eq);
+  p.h = p.h.cwiseProduct(e.row_cone);
+  for (int j = 0; j < p.A.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(p.A, j); it; ++it) it.valueRef() *= e.row_eq[it.row()] * e.col[j];
+  }
+}
+
+Equilibration equilibrate(ConicProblem& p, int passes) {
+  const Equilibration e = equilibration_factors(p, passes);
+  scale_vectors_and_equalities(p, e);
+  for (int j = 0; j < p.G.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) it.valueRef() *= e.row_cone[it.row()] * e.col[j];
   }
   return e;
 }

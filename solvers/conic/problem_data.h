@@ -38,7 +38,15 @@ struct Equilibration {
   Eigen::VectorXd row_cone;  // Eg (constant within each second-order cone)
 };
 
-// Ruiz-style infinity-norm equilibration, `passes` rounds, applied in place.
+// Ruiz-style infinity-norm equilibration, `passes` rounds (early stop once every factor is
+// within 1 % of 1). The factors are computed without touching the data: a block's largest
+// |entry| scales exactly with its row and column factors, so the passes run on the matrix of
+// block maxima of [A; G] (one row per equality, per orthant row and per second-order cone),
+// formed in one sweep over the data; for the paper's SOCP that is a 2 x 7 matrix.
+Equilibration equilibration_factors(const ConicProblem& problem, int passes);
+// Scales c, b, h and A in place (G is scaled where its copy is made: ConstraintMatrix).
+void scale_vectors_and_equalities(ConicProblem& problem, const Equilibration& e);
+// Both, and G scaled in place too.
 Equilibration equilibrate(ConicProblem& problem, int passes);
 Equilibration identity_equilibration(const ConicProblem& problem);
 

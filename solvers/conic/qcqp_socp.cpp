@@ -1,8 +1,10 @@
 #include "solvers/conic/qcqp_socp.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -46,6 +48,7 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
     QcqpConeStep s = infeasible_step(m2);
     s.iterations = r.iterations;
     s.ipm_status = r.status;
+    s.timings = r.timings;
     s.status = "infeasible: IPM certificate";
     return s;
   }
@@ -54,8 +57,10 @@ QcqpConeStep read_solution(const IpmResult& r, int dim, int cone2_head, double e
   s.iterations = r.iterations;
   s.ipm_status = r.status;
   s.reduced_accuracy = r.reduced_accuracy;
+  s.polished = r.polished;
+  s.timings = r.timings;
   s.mu = radius > 0.0 ? std::max(0.0, r.z[cone2_head]) * e1_norm_at_d / radius : 0.0;
-  s.status = to_string(r.status) + (r.reduced_accuracy ? " (reduced accuracy)" : "") + (r.polished ? " (polished)" : "");
+  s.status = status_text(r) + (r.polished ? " (polished)" : "");
   return s;
 }
 
@@ -138,24 +143,36 @@ ConicProblem full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, doub
   p.h.segment(1, n1) = sw1.cwiseProduct(f1.r);
   p.h[n1 + 1] = std::sqrt(epsilon);
   p.h.segment(n1 + 2, n2) = sw2.cwiseProduct(f2.r);
-  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2], built column by column (exact zeros of
-  // invalid terms are not stored).
-  p.G.resize(rows, dim + 1);
-  Eigen::VectorXi per_col = Eigen::VectorXi::Constant(dim + 1, n1 + n2);
-  per_col[0] = 1;
-  p.G.reserve(per_col);
-  p.G.insert(0, 0) = -1.0;
+  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2], written straight into its compressed
+  // column arrays (exact zeros of invalid terms are not stored): per-entry inserts cost as
+  // much as a few IPM iterations at n = 3e5.
+  std::vector<int> outer(dim + 2, 0), inner;
+  std::vector<double> values;
+  inner.reserve(1 + static_cast<std::size_t>(dim) * (n1 + n2));
+  values.reserve(inner.capacity());
+  inner.push_back(0);
+  values.push_back(-1.0);
+  outer[1] = 1;
   for (int j = 0; j < dim; ++j) {
-    for (int i = 0; i < n1; ++i) {
-      const double v = sw1[i] * f1.J(i, j);
-      if (v != 0.0) p.G.insert(1 + i, 1 + j) = -v;
-    }
-    for (int i = 0; i < n2; ++i) {
-      const double v = sw2[i] * f2.J(i, j);
-      if (v != 0.0) p.G.insert(n1 + 2 + i, 1 + j) = -v;
-    }
+    auto append = [&](const Eigen::VectorXd& sw, const Eigen::MatrixXd& J, int row0, int n) {
+      const double* col = J.col(j).data();
+      for (int i = 0; i < n; ++i) {
+        const double v = sw[i] * col[i];
+        if (v != 0.0) {
+          inner.push_back(row0 + i);
+          values.push_back(-v);
+        }
+      }
+    };
+    append(sw1, f1.J, 1, n1);
+    append(sw2, f2.J, n1 + 2, n2);
+    outer[j + 2] = static_cast<int>(inner.size());
   }
-  p.G.makeCompressed();
+  p.G.resize(rows, dim + 1);
+  p.G.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), p.G.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), p.G.innerIndexPtr());
+  std::copy(values.begin(), values.end(), p.G.valuePtr());
   return p;
 }
 
@@ -203,6 +220,22 @@ QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, c
   const Eigen::VectorXd d = r.x.tail(dim);
   const double e1 = (f1.R * d + f1.c).norm();
   return read_solution(r, dim, dim + 1, e1, std::sqrt(epsilon - f2.floor), m2);
+}
+
+QcqpConeStep with_compressed_fallback(QcqpConeStep full, const QuadraticModel& m1, const QuadraticModel& m2,
+                                      double epsilon, const IpmSettings& settings) {
+  if (!settings.polish || !full.feasible || (full.polished && full.clean())) return full;
+  QcqpConeStep c = solve_qcqp_compressed(factor_from_model(m1), factor_from_model(m2), m2, epsilon, settings);
+  const std::string note = "full form " + full.status + "; compressed-form fallback " + c.status;
+  full.timings += c.timings;
+  if (c.feasible && c.clean()) {
+    c.iterations += full.iterations;
+    c.timings = full.timings;
+    c.fallback = true;
+    full = c;
+  }
+  full.status = note;
+  return full;
 }
 
 QcqpConeStep infeasible_step(const QuadraticModel& m2) {

@@ -45,7 +45,12 @@ struct QcqpConeStep {
   int iterations = 0;
   IpmStatus ipm_status = IpmStatus::kOptimal;
   bool reduced_accuracy = false;
+  bool polished = false;
+  bool fallback = false;  // answered by the compressed form (with_compressed_fallback)
+  IpmTimings timings;     // of the IPM calls (none when answered without one)
   std::string status;
+  // A clean optimum: IPM exit optimal at the strict tolerances (or infeasible epsilon).
+  bool clean() const { return !feasible || (ipm_status == IpmStatus::kOptimal && !reduced_accuracy); }
 };
 
 // Eq. `SOCP in our method` verbatim (rows of invalid terms included as zero rows).
@@ -59,6 +64,16 @@ QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, con
                              double epsilon, const IpmSettings& settings = step_ipm_settings());
 QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2,
                                    double epsilon, const IpmSettings& settings = step_ipm_settings());
+
+// The full form's own answer is the exact step only when it is a clean polished optimum: the
+// IPM alone leaves ~1e-5 in d (its cone objective keeps F_1's floor inside t), and at
+// n ~ 3e5 the stopping test can sit below the dual residual's rounding floor. Any other
+// feasible answer is replaced by the compressed form's solution of the same step from the
+// models (m1, m2; microseconds), if that one is a clean optimum; the status names both
+// answers, iterations and timings add up. With polishing off (the *-nopolish backends)
+// the full form's answer is returned as it is.
+QcqpConeStep with_compressed_fallback(QcqpConeStep full, const QuadraticModel& m1, const QuadraticModel& m2,
+                                      double epsilon, const IpmSettings& settings);
 
 // epsilon <= min m2: m2's minimum-norm minimizer, mu = +inf, flagged infeasible (every
 // epsilon-constraint backend answers an infeasible bound this same way, without a solver call).

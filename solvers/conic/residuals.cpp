@@ -55,4 +55,38 @@ void compute_residuals(const ConicProblem& sp, const ConstraintMatrix& G, const 
   r.dual_infeasibility = cx < 0.0 ? std::max(ax_o.norm(), gxs_o.norm()) / -cx : std::numeric_limits<double>::infinity();
 }
 
+ResidualFloors residual_floors(const ConicProblem& sp, const ConstraintMatrix& G, const ConicProblem& op,
+                               const Equilibration& eq, const Variables& v) {
+  ResidualFloors f;
+  const int n = sp.num_variables(), p = sp.num_equalities(), m = sp.num_cone_rows();
+  if (!(v.tau > 0.0)) return f;
+  const double eps = std::numeric_limits<double>::epsilon();
+  // Dual: |A|^T |y| + |G|^T |z| + |c| tau, per column; terms per column ~ p + m.
+  Eigen::VectorXd dual = sp.c.cwiseAbs() * v.tau;
+  if (p > 0) dual.noalias() += sp.A.cwiseAbs().transpose() * v.y.cwiseAbs();
+  Eigen::VectorXd primal_g = v.s.cwiseAbs() + sp.h.cwiseAbs() * v.tau;
+  if (m > 0) {
+    const Eigen::VectorXd az = v.z.cwiseAbs(), ax = v.x.cwiseAbs();
+    if (G.dense()) {
+      dual.noalias() += G.dense_matrix().cwiseAbs().transpose() * az;
+      primal_g.noalias() += G.dense_matrix().cwiseAbs() * ax;
+    } else {
+      dual.noalias() += G.sparse().cwiseAbs().transpose() * az;
+      primal_g.noalias() += G.by_rows().cwiseAbs() * ax;
+    }
+  }
+  const double nb = std::max(1.0, op.b.norm()), nh = std::max(1.0, op.h.norm()), nc = std::max(1.0, op.c.norm());
+  f.dual = eps * std::sqrt(static_cast<double>(p + m + 1)) * dual.cwiseQuotient(eq.col).norm() / v.tau / nc;
+  double pa = 0.0;
+  if (p > 0) {
+    const Eigen::VectorXd primal_a = sp.A.cwiseAbs() * v.x.cwiseAbs() + sp.b.cwiseAbs() * v.tau;
+    pa = eps * std::sqrt(static_cast<double>(n + 1)) * primal_a.cwiseQuotient(eq.row_eq).norm() / v.tau / nb;
+  }
+  const double pg = m > 0 ? eps * std::sqrt(static_cast<double>(n + 2)) *
+                                primal_g.cwiseQuotient(eq.row_cone).norm() / v.tau / nh
+                          : 0.0;
+  f.primal = std::max(pa, pg);
+  return f;
+}
+
 }  // namespace bivo::solvers::conic

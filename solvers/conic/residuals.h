@@ -37,4 +37,14 @@ struct Residuals {
 void compute_residuals(const ConicProblem& scaled, const ConstraintMatrix& G, const ConicProblem& original,
                        const Equilibration& eq, const Variables& v, Residuals& r);
 
+// What double precision can resolve of the two residual measures at v: the rounding of the
+// sums that form them, estimated as eps * sqrt(terms) * (sum of |terms|) per entry, in the
+// measures' units (original units, same normalization). A tolerance below its floor cannot
+// be certified (the paper's full form at n = 3e5: G^T z sums 3e5 terms per column).
+struct ResidualFloors {
+  double primal = 0.0, dual = 0.0;
+};
+ResidualFloors residual_floors(const ConicProblem& scaled, const ConstraintMatrix& G, const ConicProblem& original,
+                               const Equilibration& eq, const Variables& v);
+
 }  // namespace bivo::solvers::conic

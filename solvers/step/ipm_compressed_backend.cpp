@@ -14,6 +14,7 @@ StepResult IpmCompressedBackend::solve(const Subproblem& sp) {
   const conic::ConeFactor f1 = full ? conic::factor_from_residuals(*lin.full1) : conic::factor_from_model(lin.f1);
   const conic::ConeFactor f2 = full ? conic::factor_from_residuals(*lin.full2) : conic::factor_from_model(lin.f2);
   const conic::QcqpConeStep s = conic::solve_qcqp_compressed(f1, f2, lin.f2, sp.epsilon, settings_);
+  conic::record_phases(s.timings, sp.profile);
   return conic::to_step_result(s);
 }
 

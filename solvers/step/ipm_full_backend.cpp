@@ -13,7 +13,10 @@ StepResult IpmFullBackend::solve(const Subproblem& sp) {
   if (!lin.full1 || !lin.full2 || lin.full1->J.size() == 0 || lin.full2->J.size() == 0) {
     throw Error("ipm-full: the linearization has no full residuals/Jacobians (LinearizeOptions::want_full)");
   }
-  const conic::QcqpConeStep s = conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_);
+  const conic::QcqpConeStep s = conic::with_compressed_fallback(
+      conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_), lin.f1, lin.f2, sp.epsilon,
+      settings_);
+  conic::record_phases(s.timings, sp.profile);
   return conic::to_step_result(s);
 }
 

@@ -1,0 +1,154 @@
+// CPU milliseconds per frame pair of each odometry method on real fr1/rpy frames, as `bivo run`
+// spends them: the current frame's pyramid and statistics plus the coarse-to-fine estimate
+// (PNG decoding excluded), frames streamed in order with the constant-velocity prior. Two
+// windows of 16 consecutive frames (0-15 and 120-135: 30 pairs), finest level 0 (640x480)
+// and 1 (320x240, DVO's default). Counters: median_ms / mean_ms per pair (process CPU time,
+// every thread; wall time for the threaded case), it_per_pair (outer iterations).
+//
+// The file also compiles against the API of commit bfd19e8 (before the float kernels), so
+// the same cases run on the old code for paired comparisons (docs/odometry.md "Speed").
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "odometry/tracker.h"
+#if __has_include("odometry/io/tum_dataset.h")
+#include "odometry/io/tum_dataset.h"
+namespace data = bivo::odometry::io;
+#else
+#include "odometry/tum_dataset.h"
+namespace data = bivo::odometry;
+#endif
+#if __has_include("odometry/rgbd_kernels.h")
+#define BIVO_BENCH_THREADS 1
+#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads)
+#else
+#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels)
+#endif
+
+namespace {
+
+using namespace bivo::odometry;
+
+const std::string kRpy = std::string(BIVO_SHARED_DIR) + "/data/tum/rgbd_dataset_freiburg1_rpy";
+constexpr int kWindow = 16;
+constexpr int kWindowStarts[] = {0, 120};
+
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct Frames {
+  data::TumSequence sequence;
+  std::vector<std::vector<data::RgbdImage>> windows;
+};
+
+// Decoded once; null when the shared data is absent.
+const Frames* frames() {
+  static std::unique_ptr<Frames> f = []() -> std::unique_ptr<Frames> {
+    if (!std::filesystem::exists(kRpy)) return nullptr;
+    auto out = std::make_unique<Frames>();
+    out->sequence = data::open_tum_sequence(kRpy);
+    for (int start : kWindowStarts) {
+      out->windows.emplace_back();
+      for (int k = start; k < start + kWindow; ++k) {
+        out->windows.back().push_back(data::load_rgbd_image(out->sequence.frames.at(k)));
+      }
+    }
+    return out;
+  }();
+  return f.get();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest, int threads, bool active_bound,
+                 bool wall) {
+  const Frames* f = frames();
+  if (!f) {
+    state.SkipWithError(("shared data absent: " + kRpy).c_str());
+    return;
+  }
+  TrackerOptions o;
+  o.method = method;
+  o.finest_level = finest;
+  if (active_bound) o.policy.eps = 1e-5;  // below F_D / trace(Omega_D) of the free optimum: the bound binds
+#ifdef BIVO_BENCH_THREADS
+  o.problem.threads = threads;
+#else
+  if (threads != 1) {
+    state.SkipWithError("threads need the float kernels");
+    return;
+  }
+#endif
+  std::vector<double> per_pair;
+  double iterations = 0;
+  int pairs = 0;
+  for (auto _ : state) {
+    for (const auto& window : f->windows) {
+      PreparedFrame reference = BIVO_PREPARE(window[0], f->sequence.intrinsics, o);
+      Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
+      for (std::size_t k = 1; k < window.size(); ++k) {
+        const double c0 = cpu_now(), w0 = wall_now();
+        PreparedFrame current = BIVO_PREPARE(window[k], f->sequence.intrinsics, o);
+        const PairResult r = estimate_motion(reference, current, velocity, o);
+        const double seconds = wall ? wall_now() - w0 : cpu_now() - c0;
+        per_pair.push_back(1000.0 * seconds);
+        iterations += r.iterations;
+        ++pairs;
+        if (r.valid) velocity = r.T_21;
+        reference = std::move(current);
+      }
+    }
+  }
+  state.counters["median_ms"] = median(per_pair);
+  double sum = 0;
+  for (double v : per_pair) sum += v;
+  state.counters["mean_ms"] = per_pair.empty() ? 0.0 : sum / double(per_pair.size());
+  state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
+}
+
+void register_cases() {
+  for (int finest : {0, 1}) {
+    const std::string at = finest == 0 ? "/640x480" : "/320x240";
+    for (const char* m : {"single", "depth", "fixed", "tykkala", "weighted", "bounded"}) {
+      benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + at).c_str(), BM_RpyPairs, std::string(m), finest,
+                                   1, false, false)
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
+    }
+    benchmark::RegisterBenchmark(("RpyPairs/bounded_active" + at).c_str(), BM_RpyPairs, std::string("bounded"),
+                                 finest, 1, true, false)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+    benchmark::RegisterBenchmark(("RpyPairs/weighted_2threads_wall" + at).c_str(), BM_RpyPairs,
+                                 std::string("weighted"), finest, 2, false, true)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+    benchmark::RegisterBenchmark(("RpyPairs/weighted_1thread_wall" + at).c_str(), BM_RpyPairs,
+                                 std::string("weighted"), finest, 1, false, true)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+  }
+}
+
+const bool registered = (register_cases(), true);
+
+}  // namespace

@@ -1,0 +1,99 @@
+#include "odometry/reference_terms.h"
+
+namespace bivo::odometry {
+namespace {
+
+// d/dx of a row at x: central difference, one-sided at the ends; with skip_missing only
+// valid (> 0) neighbours are used and 0 is returned when neither side has one.
+inline float row_derivative(const float* row, int x, int width, bool skip_missing) {
+  const bool left = x > 0 && (!skip_missing || row[x - 1] > 0.0f);
+  const bool right = x + 1 < width && (!skip_missing || row[x + 1] > 0.0f);
+  if (left && right) return 0.5f * (row[x + 1] - row[x - 1]);
+  if (right) return row[x + 1] - row[x];
+  if (left) return row[x] - row[x - 1];
+  return 0.0f;
+}
+
+inline float column_derivative(const ImageF& im, int x, int y, bool skip_missing) {
+  const float* c = im.data.data() + x;
+  const std::size_t w = static_cast<std::size_t>(im.width);
+  const bool up = y > 0 && (!skip_missing || c[(y - 1) * w] > 0.0f);
+  const bool down = y + 1 < im.height && (!skip_missing || c[(y + 1) * w] > 0.0f);
+  if (up && down) return 0.5f * (c[(y + 1) * w] - c[(y - 1) * w]);
+  if (down) return c[(y + 1) * w] - c[y * w];
+  if (up) return c[y * w] - c[(y - 1) * w];
+  return 0.0f;
+}
+
+}  // namespace
+
+ReferenceArrays ReferenceTerms::view() const {
+  ReferenceArrays v;
+  v.x = x.data();
+  v.y = y.data();
+  v.z = z.data();
+  v.intensity = intensity.data();
+  if (!gi_u.empty()) {
+    v.gi_u = gi_u.data();
+    v.gi_v = gi_v.data();
+    v.gd_u = gd_u.data();
+    v.gd_v = gd_v.data();
+  }
+  v.count = count;
+  return v;
+}
+
+ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
+                                    bool with_gradients) {
+  const ImageF& I = reference.intensity;
+  const ImageF& D = reference.depth;
+  const io::Intrinsics& K = reference.K;
+  const double ifx = 1.0 / K.fx, ify = 1.0 / K.fy;
+  const auto usable = [&](float z) { return double(z) >= min_depth && double(z) <= max_depth; };
+  ReferenceTerms t;
+  std::size_t n = 0;
+  for (float z : D.data) n += usable(z) ? 1 : 0;
+  t.count = n;
+  const std::size_t padded = padded_terms(n);
+  for (auto* v : {&t.x, &t.y, &t.z, &t.intensity}) v->assign(padded, 0.0f);
+  if (with_gradients) {
+    for (auto* v : {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v}) v->assign(padded, 0.0f);
+  }
+  const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
+  std::size_t k = 0;
+  for (int y = 0; y < D.height; ++y) {
+    const float* drow = D.data.data() + static_cast<std::size_t>(y) * D.width;
+    const float* irow = I.data.data() + static_cast<std::size_t>(y) * I.width;
+    const double ry = (y - K.cy) * ify;
+    for (int x = 0; x < D.width; ++x) {
+      if (!usable(drow[x])) continue;
+      const double z = drow[x];
+      t.x[k] = static_cast<float>((x - K.cx) * ifx * z);
+      t.y[k] = static_cast<float>(ry * z);
+      t.z[k] = drow[x];
+      t.intensity[k] = irow[x];
+      if (with_gradients) {
+        t.gi_u[k] = fx * row_derivative(irow, x, I.width, false);
+        t.gi_v[k] = fy * column_derivative(I, x, y, false);
+        t.gd_u[k] = fx * row_derivative(drow, x, D.width, true);
+        t.gd_v[k] = fy * column_derivative(D, x, y, true);
+      }
+      ++k;
+    }
+  }
+  return t;
+}
+
+std::vector<float> interleave_intensity_depth(const RgbdLevel& level) {
+  const std::size_t n = level.intensity.data.size();
+  std::vector<float> out(2 * n);
+  const float* I = level.intensity.data.data();
+  const float* D = level.depth.data.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    out[2 * i] = I[i];
+    out[2 * i + 1] = D[i];
+  }
+  return out;
+}
+
+}  // namespace bivo::odometry

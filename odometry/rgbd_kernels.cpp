@@ -1,0 +1,69 @@
+// Choice of the kernels' instruction set, and the sums' reductions.
+#include "odometry/rgbd_kernels.h"
+
+#include <string>
+
+#include "solvers/error.h"
+
+namespace bivo::odometry {
+
+const KernelTable& scalar_kernel_table();
+#ifdef BIVO_HAVE_AVX2_KERNELS
+const KernelTable& avx2_kernel_table();
+#endif
+
+const char* to_string(KernelIsa isa) { return isa == KernelIsa::kAvx2 ? "avx2" : "scalar"; }
+
+bool kernels_available(KernelIsa isa) {
+  if (isa == KernelIsa::kScalar) return true;
+#ifdef BIVO_HAVE_AVX2_KERNELS
+  static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return cpu;
+#else
+  return false;
+#endif
+}
+
+const KernelTable& kernels(KernelIsa isa) {
+  if (!kernels_available(isa)) {
+    throw Error(std::string("per-pixel kernels for ") + to_string(isa) +
+                " are not available (not built in, or this CPU lacks AVX2/FMA)");
+  }
+#ifdef BIVO_HAVE_AVX2_KERNELS
+  if (isa == KernelIsa::kAvx2) return avx2_kernel_table();
+#endif
+  return scalar_kernel_table();
+}
+
+const KernelTable& default_kernels() {
+  static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx2) ? KernelIsa::kAvx2 : KernelIsa::kScalar);
+  return table;
+}
+
+void WarpSums::add(const WarpSums& o) {
+  f_i += o.f_i;
+  f_d += o.f_d;
+  ss_i += o.ss_i;
+  ss_d += o.ss_d;
+  valid_i += o.valid_i;
+  valid_d += o.valid_d;
+}
+
+void GramSums::add(const GramSums& o) {
+  for (int e = 0; e < 28; ++e) g[e] += o.g[e];
+  weight_sum += o.weight_sum;
+}
+
+void NormalSums::add(const NormalSums& o) {
+  intensity.add(o.intensity);
+  depth.add(o.depth);
+}
+
+void WeighSums::add(const WeighSums& o) {
+  f_i += o.f_i;
+  f_d += o.f_d;
+  weight_sum_i += o.weight_sum_i;
+  weight_sum_d += o.weight_sum_d;
+}
+
+}  // namespace bivo::odometry

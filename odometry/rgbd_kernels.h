@@ -1,0 +1,142 @@
+#pragma once
+// The per-pixel passes of RgbdOdometryProblem, in float over structure-of-arrays buffers
+// (one array per quantity, one entry per reference pixel with valid depth = "term"):
+//
+//   warp             T_21 = x: transform, project, read the 2x2 cell of the interleaved
+//                    [I, D] current image, bilinear residuals r_I, r_D (eq. `new definition
+//                    of residual`), their image gradients, validity flags; fused with the
+//                    objective sums F_j = sum w_j r_j^2 under the stored weights (evaluate()).
+//   scale sums       one step of the robust scale's fixed point (t-distribution).
+//   weigh            w_j from a WeightModel (the pluggable weight stage), F_j, trace(Omega_j).
+//   normal equations weights (fused: the same WeightModel), Jacobian rows J = [c, q x c] and
+//                    the lower triangle of sum w [J; r] [J; r]^T, which holds H, b and a.
+//
+// Every pass works on a range [begin, end) of terms whose begin is a multiple of
+// kChunkTerms; the caller runs chunks on any number of threads and adds their sums in chunk
+// order, so results do not depend on the thread count. Inside a chunk, float lane sums go
+// to double every kFlushTerms terms. Buffers hold padded_terms(n) entries (padding: flags
+// 0, residuals 0). Interfaces are plain C++ (no Eigen): the AVX2 translation unit is
+// compiled with other flags than the rest.
+#include <cstddef>
+#include <cstdint>
+
+namespace bivo::odometry {
+
+constexpr std::size_t kLaneGroup = 8;      // buffers are padded to a multiple of this
+constexpr std::size_t kFlushTerms = 1024;  // float lane sums -> double
+constexpr std::size_t kChunkTerms = 4096;  // one unit of parallel work
+inline std::size_t padded_terms(std::size_t n) { return (n + kLaneGroup - 1) / kLaneGroup * kLaneGroup; }
+inline int chunk_count(std::size_t n) { return static_cast<int>((n + kChunkTerms - 1) / kChunkTerms); }
+
+enum class KernelIsa { kScalar, kAvx2 };
+const char* to_string(KernelIsa isa);
+
+// Which objectives a pass builds (single / depth build one, the others both).
+struct ObjectiveMask {
+  bool intensity = true, depth = true;
+};
+
+// Where the image gradients of the Jacobians come from (RgbdProblemOptions::jacobian):
+// the current image at y (exact), the reference image at x (inverse-compositional style,
+// precomputed per level), or their mean (ESM).
+enum class GradientSource { kCurrent, kReference, kAverage };
+
+struct PoseF {
+  float R[9];  // row-major
+  float t[3];
+};
+
+// Reference-side terms of one level (computed once per level).
+struct ReferenceArrays {
+  const float *x = nullptr, *y = nullptr, *z = nullptr;  // p_i = z K^-1 [x_i; 1]
+  const float* intensity = nullptr;                      // I_1(x_i)
+  // fx dI_1/du, fy dI_1/dv, fx dD_1/du, fy dD_1/dv at x_i (null unless reference gradients are used)
+  const float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
+  std::size_t count = 0;                                 // terms (arrays are padded beyond)
+};
+
+// Per-pose state of every term.
+struct TermBuffers {
+  float *r_i = nullptr, *r_d = nullptr;  // 0 where invalid
+  // fx dI_2/du, fy dI_2/dv, fx dD_2/du, fy dD_2/dv at y_i (0 where invalid)
+  float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
+  std::uint8_t* flags = nullptr;         // bit 0: r_I valid, bit 1: r_D valid
+  float *w_i = nullptr, *w_d = nullptr;  // weights of the latest weight stage
+};
+
+struct WarpParams {
+  PoseF pose;
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  int width = 0, height = 0;
+  const float* cells = nullptr;  // current level: [I, D] per pixel, row-major
+  float occlusion_margin = 0.1f;
+  float min_z = 1e-6f;
+  ObjectiveMask objectives;
+  GradientSource gradients = GradientSource::kCurrent;
+  bool weighted_sums = false;  // also F_j = sum w_j r_j^2 with the weights in the buffers
+};
+
+struct WarpSums {
+  double f_i = 0, f_d = 0;    // weighted_sums only
+  double ss_i = 0, ss_d = 0;  // sum r^2
+  long long valid_i = 0, valid_d = 0;
+  void add(const WarpSums& o);
+};
+
+// The weight stage. Per-objective diagonal weights today; a model that gives a pixel one
+// weight from both residuals (e.g. a bivariate t with a 2x2 scale) is one more kind, its
+// parameters here and its per-lane formula in rgbd_kernels_impl.h (lane_weights).
+struct ObjectiveWeights {
+  // t-distribution: w = numerator / (denominator + r^2 inv_scale2), i.e. (nu + 1) / (nu + r^2 / sigma^2);
+  // unit weights are 1 / (1 + 0 r^2).
+  float numerator = 1.0f, denominator = 1.0f, inv_scale2 = 0.0f;
+  float huber = 3.0e38f;  // Huber: w = min(1, k sigma / |r|) with huber = k sigma (huge: unit weights)
+};
+struct WeightModel {
+  // kStored reuses the weights in the buffers (LinearizeOptions::update_weights = false);
+  // every other kind writes them. Invalid terms always get weight 0.
+  enum Kind { kTDistribution, kHuber, kUnit, kStored } kind = kUnit;
+  ObjectiveWeights intensity, depth;
+};
+
+// Per objective: packed lower triangle of sum w v v^T, v = [J_0..J_5, r]:
+// H(i, j) = g[i (i + 1) / 2 + j] (j <= i <= 5), b(i) = g[21 + i], a = g[27].
+struct GramSums {
+  double g[28] = {};
+  double weight_sum = 0;
+  void add(const GramSums& o);
+};
+struct NormalSums {
+  GramSums intensity, depth;
+  void add(const NormalSums& o);
+};
+struct WeighSums {
+  double f_i = 0, f_d = 0, weight_sum_i = 0, weight_sum_d = 0;
+  void add(const WeighSums& o);
+};
+
+struct NormalParams {
+  PoseF pose;
+  ObjectiveMask objectives;
+  // Gradients the Jacobians use: the buffers' (current / average) or the reference's.
+  const float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
+};
+
+struct KernelTable {
+  KernelIsa isa;
+  WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin,
+                   std::size_t end);
+  // sum_k r_k^2 (nu + 1) / (nu + r_k^2 inv_scale2) (invalid terms have r = 0 and add 0)
+  double (*t_scale_sum)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
+  WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
+  NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&,
+                                 const TermBuffers&, std::size_t begin, std::size_t end);
+};
+
+// The best instruction set built in and supported by this CPU (AVX2 + FMA, else scalar).
+const KernelTable& default_kernels();
+bool kernels_available(KernelIsa isa);
+// Throws bivo::Error when the instruction set is not built in or not supported here.
+const KernelTable& kernels(KernelIsa isa);
+
+}  // namespace bivo::odometry

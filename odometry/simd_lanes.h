@@ -1,0 +1,177 @@
+// Lane types of the per-pixel kernels (rgbd_kernels_impl.h): ONE kernel source compiled for
+// two instruction sets. No include guard on purpose: a kernel translation unit defines
+// BIVO_KERNEL_NS (its own namespace, so the two builds of every inline function stay apart
+// at link time) and includes this once, through rgbd_kernels_impl.h.
+//
+//   ScalarLanes  one float lane, plain C++: the build-time fallback and the reference of the
+//                agreement tests (tests/test_odometry_kernels.cpp).
+//   Avx2Lanes    eight float lanes, AVX2 + FMA; only where __AVX2__ and __FMA__ are defined
+//                (rgbd_kernels_avx2.cpp is compiled with -mavx2 -mfma).
+//
+// F: a float per lane; M: a mask per lane; I: a 32-bit index per lane. Nothing here uses
+// the standard library or Eigen, so no template of theirs is instantiated with AVX2 code.
+#ifndef BIVO_KERNEL_NS
+#error "define BIVO_KERNEL_NS before including odometry/simd_lanes.h"
+#endif
+
+#include <cstddef>
+#include <cstdint>
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#endif
+
+namespace bivo::odometry {
+namespace BIVO_KERNEL_NS {
+
+// The 2x2 interpolation cell of every lane: intensity and depth at (x0, y0), (x0+1, y0),
+// (x0, y0+1), (x0+1, y0+1), read from the interleaved [I, D] image of the current frame.
+template <class F>
+struct Cell {
+  F i00, i10, i01, i11, d00, d10, d01, d11;
+};
+
+struct ScalarLanes {
+  static constexpr int kWidth = 1;
+  using F = float;
+  using M = bool;
+  using I = std::int32_t;
+
+  static F load(const float* p) { return *p; }
+  static void store(float* p, F v) { *p = v; }
+  static F set(float v) { return v; }
+  static F fma(F a, F b, F c) { return a * b + c; }
+  static F select(M m, F a, F b) { return m ? a : b; }
+  static M and_not(M a, M b) { return a && !b; }  // a & ~b
+  static M all_lanes() { return true; }
+  // Lanes k + j < n.
+  static M lanes_below(std::size_t k, std::size_t n) { return k < n; }
+  static M flag(const std::uint8_t* p, std::uint8_t bit) { return (*p & bit) != 0; }
+  static void store_flags(std::uint8_t* p, M a, M b) {
+    *p = static_cast<std::uint8_t>((a ? 1 : 0) | (b ? 2 : 0));
+  }
+  static int count(M m) { return m ? 1 : 0; }
+  static double sum(F v) { return v; }
+
+  // Pixel cell of (u, v) (valid lanes have 0 <= u < width - 1, 0 <= v < height - 1) and the
+  // fractions inside it; masked-off lanes get index 0 (a readable cell).
+  static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
+    if (!valid) {
+      index = 0;
+      a = b = 0.0f;
+      return;
+    }
+    const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
+    index = y0 * width + x0;
+    a = u - static_cast<float>(x0);
+    b = v - static_cast<float>(y0);
+  }
+  static Cell<F> load_cell(const float* interleaved, I index, int width) {
+    const float* top = interleaved + 2 * static_cast<std::ptrdiff_t>(index);
+    const float* bottom = top + 2 * static_cast<std::ptrdiff_t>(width);
+    return {top[0], top[2], bottom[0], bottom[2], top[1], top[3], bottom[1], bottom[3]};
+  }
+};
+
+#if defined(__AVX2__) && defined(__FMA__)
+struct Avx2F {
+  __m256 v;
+};
+struct Avx2M {
+  __m256 m;
+};
+inline Avx2F operator+(Avx2F a, Avx2F b) { return {_mm256_add_ps(a.v, b.v)}; }
+inline Avx2F operator-(Avx2F a, Avx2F b) { return {_mm256_sub_ps(a.v, b.v)}; }
+inline Avx2F operator*(Avx2F a, Avx2F b) { return {_mm256_mul_ps(a.v, b.v)}; }
+inline Avx2F operator/(Avx2F a, Avx2F b) { return {_mm256_div_ps(a.v, b.v)}; }
+inline Avx2F operator-(Avx2F a) { return {_mm256_xor_ps(a.v, _mm256_set1_ps(-0.0f))}; }
+inline Avx2M operator<(Avx2F a, Avx2F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+inline Avx2M operator>(Avx2F a, Avx2F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+inline Avx2M operator<=(Avx2F a, Avx2F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)}; }
+inline Avx2M operator>=(Avx2F a, Avx2F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)}; }
+inline Avx2M operator&(Avx2M a, Avx2M b) { return {_mm256_and_ps(a.m, b.m)}; }
+inline Avx2M operator|(Avx2M a, Avx2M b) { return {_mm256_or_ps(a.m, b.m)}; }
+
+struct Avx2Lanes {
+  static constexpr int kWidth = 8;
+  using F = Avx2F;
+  using M = Avx2M;
+  using I = __m256i;
+
+  static F load(const float* p) { return {_mm256_loadu_ps(p)}; }
+  static void store(float* p, F v) { _mm256_storeu_ps(p, v.v); }
+  static F set(float v) { return {_mm256_set1_ps(v)}; }
+  static F fma(F a, F b, F c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }
+  static F select(M m, F a, F b) { return {_mm256_blendv_ps(b.v, a.v, m.m)}; }
+  static M and_not(M a, M b) { return {_mm256_andnot_ps(b.m, a.m)}; }
+  static M all_lanes() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
+  static M lanes_below(std::size_t k, std::size_t n) {
+    const long long left = static_cast<long long>(n) - static_cast<long long>(k);
+    const int room = left <= 0 ? 0 : (left >= 8 ? 8 : static_cast<int>(left));
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(room), lane))};
+  }
+  static M flag(const std::uint8_t* p, std::uint8_t bit) {
+    const __m256i bytes = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)));
+    const __m256i b = _mm256_set1_epi32(bit);
+    return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(bytes, b), b))};
+  }
+  static void store_flags(std::uint8_t* p, M a, M b) {
+    const __m256i bits = _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(a.m), _mm256_set1_epi32(1)),
+                                         _mm256_and_si256(_mm256_castps_si256(b.m), _mm256_set1_epi32(2)));
+    // 8 x int32 (each 0..3) -> 8 bytes.
+    const __m128i lo = _mm256_castsi256_si128(bits), hi = _mm256_extracti128_si256(bits, 1);
+    const __m128i words = _mm_packs_epi32(lo, hi);
+    const __m128i bytes = _mm_packus_epi16(words, words);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(p), bytes);
+  }
+  static int count(M m) { return __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(m.m))); }
+  // Fixed order (lane 0 + lane 1 + ...), in double: sums are reproducible bit for bit.
+  static double sum(F v) {
+    alignas(32) float l[8];
+    _mm256_store_ps(l, v.v);
+    double s = 0.0;
+    for (int j = 0; j < 8; ++j) s += l[j];
+    return s;
+  }
+
+  static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
+    const __m256 x0 = _mm256_floor_ps(u.v), y0 = _mm256_floor_ps(v.v);
+    const __m256i xi = _mm256_cvttps_epi32(x0), yi = _mm256_cvttps_epi32(y0);
+    const __m256i k = _mm256_add_epi32(_mm256_mullo_epi32(yi, _mm256_set1_epi32(width)), xi);
+    index = _mm256_and_si256(k, _mm256_castps_si256(valid.m));
+    a = {_mm256_and_ps(_mm256_sub_ps(u.v, x0), valid.m)};
+    b = {_mm256_and_ps(_mm256_sub_ps(v.v, y0), valid.m)};
+  }
+  // Each lane's cell is two 16-byte rows [I, D, I_right, D_right]; lanes j and j + 4 share a
+  // 256-bit register, and one 4x4 transpose per row turns rows into lane vectors.
+  static Cell<F> load_cell(const float* interleaved, I index, int width) {
+    alignas(32) std::int32_t k[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(k), index);
+    const std::ptrdiff_t below = 2 * static_cast<std::ptrdiff_t>(width);
+    __m256 top[4], bottom[4];
+    for (int j = 0; j < 4; ++j) {
+      const float* lo = interleaved + 2 * static_cast<std::ptrdiff_t>(k[j]);
+      const float* hi = interleaved + 2 * static_cast<std::ptrdiff_t>(k[j + 4]);
+      top[j] = _mm256_loadu2_m128(hi, lo);
+      bottom[j] = _mm256_loadu2_m128(hi + below, lo + below);
+    }
+    Cell<F> c;
+    transpose(top, c.i00, c.d00, c.i10, c.d10);
+    transpose(bottom, c.i01, c.d01, c.i11, c.d11);
+    return c;
+  }
+
+ private:
+  static void transpose(const __m256 r[4], F& e0, F& e1, F& e2, F& e3) {
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpacklo_ps(r[2], r[3]);
+    const __m256 t2 = _mm256_unpackhi_ps(r[0], r[1]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    e0 = {_mm256_shuffle_ps(t0, t1, 0x44)};
+    e1 = {_mm256_shuffle_ps(t0, t1, 0xEE)};
+    e2 = {_mm256_shuffle_ps(t2, t3, 0x44)};
+    e3 = {_mm256_shuffle_ps(t2, t3, 0xEE)};
+  }
+};
+#endif
+
+}  // namespace BIVO_KERNEL_NS
+}  // namespace bivo::odometry

@@ -1,0 +1,271 @@
+// The float per-pixel kernels of RgbdOdometryProblem (odometry/rgbd_kernels.h) against
+// independent references: the double path (full residual data, what the finite-difference
+// tests check), the other instruction set, other thread counts (bit-identical results), and
+// first-order image motion computed point by point. A procedural scene (a slanted textured
+// plane seen from two poses, with holes in the depth) needs no data files.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "odometry/image_statistics.h"
+#include "odometry/rgbd_problem.h"
+#include "odometry/tracker.h"
+#include "solvers/outer_loop.h"
+#include "solvers/scalarization.h"
+#include "solvers/se3.h"
+
+using namespace bivo;
+using namespace bivo::odometry;
+namespace se3 = bivo::solvers::se3;
+
+namespace {
+
+const io::Intrinsics kK{260.0, 258.0, 159.5, 119.5};
+
+// The plane n.P = 1.6 m (world = camera 1), a sum of sines on it, seen by a camera at T_wc.
+io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int width = 320, int height = 240) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0.15, -0.1, 1.0).normalized();
+  const double d = 1.6;
+  io::RgbdImage im;
+  im.width = width;
+  im.height = height;
+  im.intensity.resize(static_cast<std::size_t>(width) * height);
+  im.depth.resize(im.intensity.size());
+  const Eigen::Matrix3d R = T_wc.linear();
+  const Eigen::Vector3d c = T_wc.translation();
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+      const Eigen::Vector3d ray_w = R * ray;
+      const double s = (d - n.dot(c)) / n.dot(ray_w);  // P_w = c + s ray_w, camera depth = s
+      const Eigen::Vector3d P = c + s * ray_w;
+      const double t = 128.0 + 45.0 * std::sin(9.0 * P.x() + 2.0 * P.y()) + 35.0 * std::cos(7.0 * P.y() - 3.0 * P.x()) +
+                       20.0 * std::sin(23.0 * P.x()) * std::sin(19.0 * P.y());
+      const std::size_t k = static_cast<std::size_t>(v) * width + u;
+      im.intensity[k] = static_cast<float>(t);
+      const bool hole = (u * 7 + v * 13) % 41 == 0 || (u > 250 && u < 270 && v > 30 && v < 60);
+      im.depth[k] = hole ? 0.0f : static_cast<float>(s);
+    }
+  }
+  return im;
+}
+
+Eigen::Isometry3d camera2() {
+  se3::Vector6d xi;
+  xi << 0.012, -0.008, 0.015, 0.01, -0.012, 0.006;
+  return se3::exp(xi);
+}
+
+struct Scene {
+  PreparedFrame reference, current;
+  Eigen::Isometry3d T_21;  // camera 1 -> camera 2 coordinates
+  Scene() {
+    const Eigen::Isometry3d T_wc2 = camera2();
+    reference = prepare_frame(render_plane(Eigen::Isometry3d::Identity()), kK, 3);
+    current = prepare_frame(render_plane(T_wc2), kK, 3);
+    T_21 = T_wc2.inverse();
+  }
+};
+
+const Scene& scene() {
+  static const Scene s;
+  return s;
+}
+
+// Near the truth, so most terms are valid with residuals of a few gray levels.
+Eigen::VectorXd near_truth() {
+  se3::Vector6d off;
+  off << 0.003, 0.002, -0.002, -0.002, 0.003, 0.001;
+  return se3::to_ambient(se3::exp(off) * scene().T_21);
+}
+
+double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
+
+}  // namespace
+
+TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2}) {
+    if (!kernels_available(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    RgbdOdometryProblem p(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0]);
+    p.set_kernel_isa(isa);
+    solvers::LinearizeOptions o;
+    o.want_full = true;
+    const solvers::Linearization lin = p.linearize(near_truth(), o);
+    for (const auto& [model, full] : {std::pair{&lin.f1, &*lin.full1}, std::pair{&lin.f2, &*lin.full2}}) {
+      const solvers::QuadraticModel want = solvers::quadratic_model_of(*full);
+      EXPECT_LT(std::abs(model->a - want.a), 2e-4 * want.a);  // float warp vs double warp
+      EXPECT_LT(rel(model->b, want.b), 2e-4);
+      EXPECT_LT(rel(model->H, want.H), 2e-4);
+    }
+    EXPECT_GT(p.last_stats().valid_intensity, 0.8 * p.num_terms());
+  }
+}
+
+TEST(RgbdKernels, ScalarAndAvx2KernelsAgree) {
+  if (!kernels_available(KernelIsa::kAvx2)) GTEST_SKIP() << "no AVX2 kernels on this build / CPU";
+  const RgbdLevel& a = scene().reference.pyramid.levels[0];
+  const RgbdLevel& b = scene().current.pyramid.levels[0];
+  RgbdOdometryProblem scalar(a, b), avx2(a, b);
+  scalar.set_kernel_isa(KernelIsa::kScalar);
+  avx2.set_kernel_isa(KernelIsa::kAvx2);
+  const Eigen::VectorXd x = near_truth();
+  const auto ls = scalar.linearize(x, {}), lv = avx2.linearize(x, {});
+  EXPECT_LT(std::abs(ls.f1.a - lv.f1.a), 1e-5 * ls.f1.a);
+  EXPECT_LT(rel(lv.f1.H, ls.f1.H), 1e-5);
+  EXPECT_LT(rel(lv.f2.H, ls.f2.H), 1e-5);
+  EXPECT_LT(rel(lv.f1.b, ls.f1.b), 1e-4);
+  EXPECT_NEAR(scalar.last_stats().valid_intensity, avx2.last_stats().valid_intensity, 5);
+  EXPECT_NEAR(scalar.last_stats().sigma_depth, avx2.last_stats().sigma_depth, 1e-5 * scalar.last_stats().sigma_depth);
+  const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
+  const auto fs = scalar.evaluate(x2), fv = avx2.evaluate(x2);
+  EXPECT_LT(std::abs(fs[0] - fv[0]), 1e-5 * fs[0]);
+  // At the truth F_D is ~1e-14 (an exact plane): below that, float rounding (FMA or not) rules.
+  EXPECT_LT(std::abs(fs[1] - fv[1]), std::max(1e-5 * fs[1], 1e-8));
+}
+
+TEST(RgbdKernels, ResultsAreBitIdenticalForEveryThreadCount) {
+  const RgbdLevel& a = scene().reference.pyramid.levels[0];
+  const RgbdLevel& b = scene().current.pyramid.levels[0];
+  const Eigen::VectorXd x = near_truth();
+  RgbdProblemOptions o;
+  RgbdOdometryProblem one(a, b, o);
+  const auto l1 = one.linearize(x, {});
+  const auto f1 = one.evaluate(se3::to_ambient(scene().T_21));
+  for (int threads : {2, 3}) {
+    o.threads = threads;
+    RgbdOdometryProblem many(a, b, o);
+    const auto ln = many.linearize(x, {});
+    EXPECT_EQ(ln.f1.a, l1.f1.a);
+    EXPECT_EQ(ln.f2.a, l1.f2.a);
+    EXPECT_EQ((ln.f1.H - l1.f1.H).norm(), 0.0);
+    EXPECT_EQ((ln.f2.b - l1.f2.b).norm(), 0.0);
+    EXPECT_EQ(many.last_stats().sigma_intensity, one.last_stats().sigma_intensity);
+    EXPECT_EQ(many.evaluate(se3::to_ambient(scene().T_21)), f1);
+  }
+  // The frame preparation and a whole coarse-to-fine estimate, too.
+  const io::RgbdImage im = render_plane(Eigen::Isometry3d::Identity());
+  const PreparedFrame p1 = prepare_frame(im, kK, 3, 1), p2 = prepare_frame(im, kK, 3, 2);
+  for (int l = 0; l < 3; ++l) EXPECT_EQ(p1.pyramid.levels[l].depth.data, p2.pyramid.levels[l].depth.data);
+  EXPECT_EQ(p1.statistics.pi_depth, p2.statistics.pi_depth);
+  EXPECT_EQ(p1.statistics.var_intensity, p2.statistics.var_intensity);
+  TrackerOptions t;
+  t.levels = 3;
+  t.method = "bounded";
+  const PairResult r1 = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), t);
+  t.problem.threads = 2;
+  const PairResult r2 = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), t);
+  EXPECT_EQ((r1.T_21.matrix() - r2.T_21.matrix()).norm(), 0.0);
+  EXPECT_EQ(r1.iterations, r2.iterations);
+}
+
+TEST(RgbdKernels, EvaluateAgreesWithTheModelsAndTheWeightedResiduals) {
+  RgbdOdometryProblem p(scene().reference.pyramid.levels[1], scene().current.pyramid.levels[1]);
+  const Eigen::VectorXd x = near_truth();
+  const auto lin = p.linearize(x, {});
+  const auto f = p.evaluate(x);
+  EXPECT_EQ(f[0], lin.f1.a);  // the same sums in the same order
+  EXPECT_EQ(f[1], lin.f2.a);
+  // At another x: F = sum w r^2 with the weights of that linearization (double path's r).
+  const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
+  const auto f2 = p.evaluate(x2);
+  for (int j : {1, 2}) {
+    const solvers::ResidualData d = p.residuals(j, x2, false);
+    const double want = d.r.dot(d.w.cwiseProduct(d.r));
+    EXPECT_NEAR(f2[j - 1], want, 1e-4 * want) << "objective " << j;
+  }
+}
+
+TEST(RgbdKernels, OneObjectiveProblemsBuildOnlyF1AndReportTheOtherOnRequest) {
+  const RgbdLevel& a = scene().reference.pyramid.levels[1];
+  const RgbdLevel& b = scene().current.pyramid.levels[1];
+  const Eigen::VectorXd x = near_truth();
+  for (const bool depth_first : {false, true}) {
+    RgbdProblemOptions o;
+    o.depth_first = depth_first;
+    RgbdOdometryProblem full(a, b, o);
+    o.model_f2 = false;
+    RgbdOdometryProblem single(a, b, o);
+    const auto lf = full.linearize(x, {}), ls = single.linearize(x, {});
+    EXPECT_EQ(ls.f1.a, lf.f1.a);
+    EXPECT_EQ((ls.f1.H - lf.f1.H).norm(), 0.0);
+    EXPECT_EQ(ls.f2.a, 0.0);
+    EXPECT_EQ(ls.f2.H.norm(), 0.0);
+    EXPECT_EQ(single.evaluate(x)[1], 0.0);
+    // Both objectives with weights estimated at x: those of the two-objective problem (up to
+    // the scale's fixed point, which single starts from its own estimate and stops within
+    // scale_tolerance = 1e-4 of sigma^2).
+    const auto both = single.objectives_at(x);
+    EXPECT_NEAR(both[0], full.last_stats().f_intensity, 1e-4 * full.last_stats().f_intensity);
+    EXPECT_NEAR(both[1], full.last_stats().f_depth, 1e-4 * full.last_stats().f_depth);
+  }
+}
+
+TEST(RgbdKernels, PixelMotionIsTheRmsImageMotionOfTheStep) {
+  RgbdOdometryProblem p(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0]);
+  const Eigen::VectorXd x = se3::to_ambient(scene().T_21);
+  se3::Vector6d d;
+  d << 2e-4, -1e-4, 3e-4, 1e-4, 2e-4, -1.5e-4;
+  // Every reference point projected at x and at exp(d) x.
+  const RgbdLevel& ref = scene().reference.pyramid.levels[0];
+  const Eigen::Isometry3d T = scene().T_21, Td = se3::exp(d) * scene().T_21;
+  double sum2 = 0.0;
+  int n = 0;
+  for (int v = 0; v < ref.depth.height; ++v) {
+    for (int u = 0; u < ref.depth.width; ++u) {
+      const double z = ref.depth.at(u, v);
+      if (!(z >= 0.1 && z <= 10.0)) continue;
+      const Eigen::Vector3d P((u - kK.cx) / kK.fx * z, (v - kK.cy) / kK.fy * z, z);
+      const Eigen::Vector3d q = T * P, qd = Td * P;
+      const Eigen::Vector2d y(kK.fx * q.x() / q.z(), kK.fy * q.y() / q.z());
+      const Eigen::Vector2d yd(kK.fx * qd.x() / qd.z(), kK.fy * qd.y() / qd.z());
+      sum2 += (yd - y).squaredNorm();
+      ++n;
+    }
+  }
+  const double rms = std::sqrt(sum2 / n);
+  EXPECT_GT(rms, 0.05);
+  EXPECT_NEAR(p.pixel_motion(x, d), rms, 0.02 * rms);  // first order, a sample of the terms
+  EXPECT_NEAR(p.pixel_motion(x, 2.0 * d), 2.0 * p.pixel_motion(x, d), 1e-9);
+}
+
+TEST(RgbdKernels, AStepBelowThePixelToleranceIsNotTaken) {
+  RgbdOdometryProblem p(scene().reference.pyramid.levels[1], scene().current.pyramid.levels[1]);
+  const Eigen::VectorXd x0 = se3::to_ambient(Eigen::Isometry3d::Identity());
+  solvers::SolverOptions o;
+  o.max_iterations = 10;
+  o.step_measure = [&p](const Eigen::VectorXd& at, const Eigen::VectorXd& d) { return p.pixel_motion(at, d); };
+  o.step_measure_tolerance = 1e9;  // every step is "too small to see"
+  Eigen::VectorXd x = x0;
+  const solvers::Summary s = solvers::solve(p, solvers::WeightedSum(0.0), "gn", x, o);
+  EXPECT_EQ(s.iterations, 1);
+  EXPECT_EQ(s.termination, solvers::TerminationReason::kStepTolerance);
+  EXPECT_EQ(x, x0);
+  EXPECT_EQ(s.final_f1, s.initial_f1);
+  // A realistic tolerance stops after steps were taken, near the truth.
+  o.step_measure_tolerance = 0.05;
+  o.step_tolerance = 0.0;
+  o.relative_decrease_tolerance = 0.0;
+  const solvers::Summary t = solvers::solve(p, solvers::WeightedSum(0.0), "gn", x, o);
+  EXPECT_EQ(t.termination, solvers::TerminationReason::kStepTolerance);
+  EXPECT_GT(t.iterations, 2);
+  EXPECT_LT(se3::log(se3::from_ambient(x) * scene().T_21.inverse()).norm(), 2e-3);
+}
+
+TEST(RgbdKernels, EveryJacobianKindRecoversTheMotion) {
+  for (const JacobianKind kind : {JacobianKind::kForward, JacobianKind::kInverse, JacobianKind::kEsm}) {
+    SCOPED_TRACE(to_string(kind));
+    TrackerOptions t;
+    t.levels = 3;
+    t.method = "weighted";
+    t.problem.jacobian = kind;
+    const PairResult r = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), t);
+    const se3::Vector6d e = se3::log(r.T_21 * scene().T_21.inverse());
+    EXPECT_LT(e.head<3>().norm(), 1e-3);  // m
+    EXPECT_LT(e.tail<3>().norm(), 1e-3);  // rad
+  }
+  EXPECT_EQ(parse_jacobian_kind("esm"), JacobianKind::kEsm);
+  EXPECT_THROW(parse_jacobian_kind("newton"), Error);
+}
