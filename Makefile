@@ -18,10 +18,13 @@ SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fra
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: deps build test demo bench clean sanitize-build sanitize fuzz
+.PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz
 
 deps:
 	bash scripts/install-deps.sh
+
+deps-sanitizer:
+	bash scripts/install-deps.sh --sanitizer
 
 build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
@@ -36,7 +39,7 @@ demo: build
 bench: build
 	$(BUILD)/benchmarks/bivo_bench
 
-sanitize-build: deps
+sanitize-build: deps-sanitizer
 	cmake -S . -B $(SAN_BUILD) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
 	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Installs every Debian package that bivo's build, tests, benchmarks and plots need.
+# Installs every Debian package that bivo's build, tests, benchmarks and plots need;
+# with --sanitizer also the clang toolchain of `make sanitize` / `make fuzz` (kept apart so
+# that `make test`, CI's step, does not download a second compiler).
 # Idempotent: when all packages are present it only checks and returns.
 set -euo pipefail
 
@@ -25,10 +27,13 @@ PACKAGES=(
 )
 # clang for the sanitizer build (ASan + UBSan) and the libFuzzer targets (`make sanitize`,
 # `make fuzz`), without recommends (clang's alone would pull llvm-14-dev).
-PACKAGES_NO_RECOMMENDS=(
-  clang
-  libclang-rt-14-dev
-)
+PACKAGES_NO_RECOMMENDS=()
+if [ "${1:-}" = "--sanitizer" ]; then
+  PACKAGES_NO_RECOMMENDS=(
+    clang
+    libclang-rt-14-dev
+  )
+fi
 
 missing_in() {
   for p in "$@"; do
@@ -38,7 +43,10 @@ missing_in() {
   done
 }
 mapfile -t missing < <(missing_in "${PACKAGES[@]}")
-mapfile -t missing_nr < <(missing_in "${PACKAGES_NO_RECOMMENDS[@]}")
+missing_nr=()
+if [ ${#PACKAGES_NO_RECOMMENDS[@]} -gt 0 ]; then
+  mapfile -t missing_nr < <(missing_in "${PACKAGES_NO_RECOMMENDS[@]}")
+fi
 
 if [ ${#missing[@]} -eq 0 ] && [ ${#missing_nr[@]} -eq 0 ]; then
   echo "install-deps: all $(( ${#PACKAGES[@]} + ${#PACKAGES_NO_RECOMMENDS[@]} )) packages present"

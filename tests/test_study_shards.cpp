@@ -148,13 +148,8 @@ void expect_bad_results_refused(const StudyDir& d, const fs::path& results) {
 }
 
 TEST(StudyShards, OneProcessShardsAndGnuParallelGiveTheSameTables) {
-  const fs::path root = fs::temp_directory_path() / ("bivo_study_shards_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() { fs::remove_all(dir); }
-  } cleanup{root};
+  const TempDir temp("bivo_study_shards");
+  const fs::path& root = temp.path;
   const std::vector<std::string> sequences = render_test_sequences(root / "sequences");
 
   // 1. One process.
@@ -213,13 +208,8 @@ TEST(StudyShards, OneProcessShardsAndGnuParallelGiveTheSameTables) {
 }
 
 TEST(StudyPlan, SlurmScriptIsAJobArrayWithADependentMerge) {
-  const fs::path root = fs::temp_directory_path() / ("bivo_study_plan_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() { fs::remove_all(dir); }
-  } cleanup{root};
+  const TempDir temp("bivo_study_plan");
+  const fs::path& root = temp.path;
   // A table study reads no data when planned: its sequences need not exist.
   const std::string flags = " --sequences /data/a /data/b --methods single weighted --output " + q(root / "out") +
                             " --slurm --shards 3 --throttle 2 --time 1:00:00";

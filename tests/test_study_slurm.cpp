@@ -42,13 +42,8 @@ class LocalSlurm {
 };
 
 TEST(StudySlurm, JobArrayAndDependentMergeGiveTheTablesOfOneProcess) {
-  const fs::path root = fs::temp_directory_path() / ("bivo_study_slurm_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() { fs::remove_all(dir); }
-  } cleanup{root};
+  const TempDir temp("bivo_study_slurm");
+  const fs::path& root = temp.path;
   LocalSlurm slurm(root / "cluster");
   if (slurm.status() == 77) GTEST_SKIP() << "no Slurm cluster here: " << slurm.message();
   ASSERT_EQ(slurm.status(), 0) << slurm.message();
