@@ -204,7 +204,7 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
 
 // The new policies' fields (issue 13, items 2-3) take the same road: flags -> file -> run.
 TEST_F(CliRun, NewPolicyFieldsRoundTripThroughTheConfig) {
-  for (const std::string flags : {std::string(" --method noise-bounded --eps-ratio 0.7 --guard 0.03"),
+  for (const std::string& flags : {std::string(" --method noise-bounded --eps-ratio 0.7 --guard 0.03"),
                                   std::string(" --method scaled --kappa 0.25"), std::string(" --method joint")}) {
     const std::string common = " --levels 2 --finest-level 1 --max-frames 3";
     const CliResult a = run_bivo("run " + seq() + flags + common + " --output " + q(dir_ / "a.txt"), dir_);
@@ -214,7 +214,9 @@ TEST_F(CliRun, NewPolicyFieldsRoundTripThroughTheConfig) {
       EXPECT_NE(config.find("\"eps_ratio\": 0.7"), std::string::npos) << config;
       EXPECT_NE(config.find("\"guard\": 0.03"), std::string::npos) << config;
     }
-    if (flags.find("scaled") != std::string::npos) EXPECT_NE(config.find("\"kappa\": 0.25"), std::string::npos);
+    if (flags.find("scaled") != std::string::npos) {
+      EXPECT_NE(config.find("\"kappa\": 0.25"), std::string::npos) << config;
+    }
     const CliResult b =
         run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"), dir_);
     ASSERT_EQ(b.status, 0) << b.err;
