@@ -65,7 +65,8 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads));
 }
 
-// One level-0 linearization (warp, weights, normal equations) with the given kernels and threads.
+// One level-0 linearization (warp, weights, normal equations) with the given kernels and
+// threads; joint = 1: method joint's weight stage (one bivariate-t weight per pixel).
 void BM_OdometryLinearizeLevel0(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
   const KernelIsa isa = state.range(0) ? KernelIsa::kAvx2 : KernelIsa::kScalar;
@@ -75,6 +76,7 @@ void BM_OdometryLinearizeLevel0(benchmark::State& state) {
   }
   RgbdProblemOptions po;
   po.threads = static_cast<int>(state.range(1));
+  po.joint_weights = state.range(2) != 0;
   RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0], po);
   problem.set_kernel_isa(isa);
   Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
@@ -164,13 +166,17 @@ BENCHMARK_CAPTURE(BM_OdometryPair, fixed, std::string("fixed"), std::string(""))
 BENCHMARK_CAPTURE(BM_OdometryPair, tykkala, std::string("tykkala"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted, std::string("weighted"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, bounded, std::string("bounded"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, joint, std::string("joint"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, scaled, std::string("scaled"), std::string(""))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryPrepareFrame)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OdometryLinearizeLevel0)
-    ->ArgNames({"avx2", "threads"})
-    ->Args({0, 1})
-    ->Args({1, 1})
-    ->Args({1, 2})
+    ->ArgNames({"avx2", "threads", "joint"})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 2, 0})
+    ->Args({1, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_OdometryEvaluateLevel0)->Unit(benchmark::kMillisecond);

@@ -17,7 +17,7 @@ struct DemoOptions {
   // full resolution like `bivo run`.
   int finest_level = 1;
   std::uint64_t seed = 7;
-  std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded"};
+  std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded", "joint", "noise-bounded"};
   int sweep_frames = 40;
   bool sweep = true, pareto = true, plots = true;
   bool rerender = false;  // render even when OUTPUT/sequences has a finished sequence

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "experiments/paper_claims.h"
 #include "experiments/plotting.h"
 #include "experiments/study_merge.h"
 #include "experiments/study_plan.h"
@@ -136,6 +137,9 @@ ReportResult write_report(const ReportOptions& o, const ReportParts& parts, cons
   md << "## Runtime (paper table 3)\n\n";
   image("runtime_bars.py", dir + "/tables/runtime_bars.csv", "runtime.png",
         "Time per frame pair, median over all pairs (bars) and mean (black mark), loading excluded");
+
+  md << "## The paper's claims, one by one\n\n"
+     << claims_markdown(paper_claims(result.matrix, parts.sweep ? &*parts.sweep : nullptr)) << "\n";
 
   // The tracker settings every run of the report started from, for --config.
   write_tracker_config(dir + "/config.json", o.tracker);

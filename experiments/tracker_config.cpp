@@ -29,7 +29,8 @@ constexpr int kIntMax = std::numeric_limits<int>::max();
 json tracker_options_to_json(const TrackerOptions& o) {
   const auto& w = o.problem.weights;
   json policy = {{"lambda", o.policy.lambda}, {"phi", o.policy.phi},        {"delta", o.policy.delta},
-                 {"eps_min", o.policy.eps_min}, {"eps_max", o.policy.eps_max}, {"eps", nullptr}};
+                 {"eps_min", o.policy.eps_min}, {"eps_max", o.policy.eps_max}, {"eps", nullptr},
+                 {"kappa", o.policy.kappa},     {"eps_ratio", o.policy.eps_ratio}, {"guard", o.policy.guard}};
   if (o.policy.eps) policy["eps"] = *o.policy.eps;
   json j = {
       {"method", o.method},
@@ -54,6 +55,7 @@ json tracker_options_to_json(const TrackerOptions& o) {
         {"max_depth", o.problem.max_depth},
         {"occlusion_margin", o.problem.occlusion_margin},
         {"depth_first", o.problem.depth_first},
+        {"joint_weights", o.problem.joint_weights},
         {"model_f2", o.problem.model_f2},
         {"jacobian", odometry::to_string(o.problem.jacobian)},
         {"threads", o.problem.threads},
@@ -98,6 +100,9 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
     pr.number("delta", o.policy.delta, 0.0, kInf);
     pr.number("eps_min", o.policy.eps_min, 0.0, kInf);
     pr.number("eps_max", o.policy.eps_max, 0.0, kInf);
+    pr.number("kappa", o.policy.kappa, 0.0, kInf);
+    pr.number("eps_ratio", o.policy.eps_ratio, 0.0, kInf);
+    pr.number("guard", o.policy.guard, 0.0, kInf);
     if (const json* e = pr.find("eps")) {
       if (e->is_null()) {
         o.policy.eps.reset();
@@ -115,6 +120,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
     pr.number("max_depth", o.problem.max_depth, 0.0, kInf);
     pr.number("occlusion_margin", o.problem.occlusion_margin, 0.0, kInf);
     pr.boolean("depth_first", o.problem.depth_first);
+    pr.boolean("joint_weights", o.problem.joint_weights);
     pr.boolean("model_f2", o.problem.model_f2);
     pr.name("jacobian", o.problem.jacobian, odometry::parse_jacobian_kind);
     pr.integer("threads", o.problem.threads, 1, 256);

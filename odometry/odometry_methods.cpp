@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "odometry/rgbd_problem.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {
@@ -14,7 +15,9 @@ struct MethodName {
 };
 constexpr MethodName kMethods[] = {{Method::kSingle, "single"},   {Method::kDepth, "depth"},
                                    {Method::kFixed, "fixed"},     {Method::kTykkala, "tykkala"},
-                                   {Method::kWeighted, "weighted"}, {Method::kBounded, "bounded"}};
+                                   {Method::kWeighted, "weighted"}, {Method::kBounded, "bounded"},
+                                   {Method::kJoint, "joint"},       {Method::kScaled, "scaled"},
+                                   {Method::kNoiseBounded, "noise-bounded"}};
 
 // The statistics a policy value came from, for messages.
 std::string statistics_text(const FrameStatistics& s) {
@@ -79,7 +82,9 @@ std::vector<std::string> method_names() {
   return out;
 }
 
-bool is_bounded(Method method) { return method == Method::kBounded; }
+bool is_bounded(Method method) { return method == Method::kBounded || method == Method::kNoiseBounded; }
+
+bool lambda_from_residuals(Method method) { return method == Method::kJoint || method == Method::kScaled; }
 
 std::string default_backend(Method method) { return is_bounded(method) ? "exact" : "gn"; }
 
@@ -102,7 +107,12 @@ std::optional<double> frame_lambda(Method method, const FrameStatistics& s, cons
     case Method::kFixed: return defined(p.lambda, "fixed lambda", s, why);
     case Method::kTykkala: return defined(tykkala_formula(s), kTykkalaWhat, s, why);
     case Method::kWeighted: return defined(adaptive_formula(s, p.phi), kAdaptiveWhat, s, why);
-    case Method::kBounded: break;
+    case Method::kJoint:
+    case Method::kScaled:
+      throw Error(std::string("method '") + to_string(method) +
+                  "' has no per-frame lambda (it is estimated at every linearization from the residuals)");
+    case Method::kBounded:
+    case Method::kNoiseBounded: break;
   }
   throw Error(std::string("method '") + to_string(method) + "' has no lambda (it bounds F_D instead)");
 }
@@ -111,6 +121,15 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
   std::string why;
   if (const auto lambda = frame_lambda(method, s, p, &why)) return *lambda;
   throw Error(why);
+}
+
+double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p) {
+  if (method == Method::kJoint) return stats.joint_scale.implied_lambda();
+  if (method == Method::kScaled) {
+    const double si = stats.sigma_intensity, sd = stats.sigma_depth;
+    return sd > 0.0 && std::isfinite(si) ? p.kappa * (si * si) / (sd * sd) : 0.0;
+  }
+  throw Error(std::string("method '") + to_string(method) + "' does not take lambda from the residuals");
 }
 
 }  // namespace bivo::odometry

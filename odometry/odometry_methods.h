@@ -9,6 +9,15 @@
 //                                            `image complexity metric`, `depth complexity metric`)
 //   bounded   min F_I s.t. F_D <= eps_D      eps_D = eps_max if pi(D) <= delta else eps_min
 //                                            (eq. `bounded objective form`)
+// and, beyond the paper (docs/odometry.md, "Data-driven policies"):
+//   joint     F_I + lambda F_D with ONE bivariate-t weight per pixel (joint_weights.h, Kerl et
+//             al. IROS 2013); lambda = S_II / S_DD, re-estimated at every linearization
+//   scaled    F_I + lambda F_D               lambda = kappa sigma_I^2 / sigma_D^2 from the robust
+//                                            scales of the current linearization
+//   noise-bounded  per level: x_I = argmin F_I; then min F_I s.t. F_D <= eps_D with
+//             eps_bar = eps_ratio * (F_D / trace Omega_D at x_I), the depth-residual level at the
+//             photometric solution; guard: when F_I rises by more than guard * F_I(x_I) the
+//             photometric data reject the bound (biased depth) and it is relaxed (x_I kept).
 // Statistics are those of the reference frame at full resolution (image_statistics.h).
 //
 // eps_D is a bound on F_D = sum_i w_i r_D,i^2, which grows with the number of valid pixels
@@ -24,13 +33,15 @@
 
 namespace bivo::odometry {
 
-enum class Method { kSingle, kDepth, kFixed, kTykkala, kWeighted, kBounded };
+enum class Method { kSingle, kDepth, kFixed, kTykkala, kWeighted, kBounded, kJoint, kScaled, kNoiseBounded };
 
 // Unknown name -> bivo::Error listing the valid ones.
 Method parse_method(const std::string& name);
 const char* to_string(Method method);
 std::vector<std::string> method_names();
-bool is_bounded(Method method);
+bool is_bounded(Method method);  // bounded, noise-bounded: epsilon-constraint steps
+// joint, scaled: lambda is chosen per linearization from the residuals (residual_lambda()).
+bool lambda_from_residuals(Method method);
 // "gn" for the weighted-sum methods, "exact" for bounded.
 std::string default_backend(Method method);
 
@@ -42,6 +53,9 @@ struct PolicyParameters {
   double eps_min = 3e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
   double eps_max = 1e-3;        // method bounded: per-unit-weight bound [m^2] on poor structure
   std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
+  double kappa = 1.0;           // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
+  double eps_ratio = 0.5;       // method noise-bounded: eps_bar / depth-residual level at x_I
+  double guard = 0.02;          // method noise-bounded: relative rise of F_I that relaxes the bound
 };
 
 double tykkala_lambda(const FrameStatistics& s);
@@ -53,10 +67,16 @@ double bounded_epsilon_per_weight(const FrameStatistics& s, const PolicyParamete
 // lambda of a weighted-sum method for a frame with statistics s (0 for single and depth), or
 // nullopt when the frame's statistics leave it undefined (non-finite or negative, e.g. a
 // frame without valid depth or without texture); `why` then names the values. Throws
-// bivo::Error for bounded.
+// bivo::Error for bounded and noise-bounded; joint and scaled have no per-frame lambda:
+// Error too (use residual_lambda()).
 std::optional<double> frame_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p,
                                    std::string* why = nullptr);
 // The same, throwing bivo::Error with that message when lambda is undefined.
 double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p);
+
+struct RgbdLinearizationStats;
+// lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
+// one linearization; 0 when the scales are degenerate (no valid depth residual).
+double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p);
 
 }  // namespace bivo::odometry

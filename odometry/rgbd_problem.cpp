@@ -184,6 +184,16 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask,
 void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& at) {
   last_linearization_.reset();
   const std::size_t n = reference_terms_.count;
+  if (options_.joint_weights && mask.intensity && mask.depth) {
+    // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
+    // written to the buffers here; the kernels then apply them as stored weights.
+    stats_.joint_scale = compute_joint_weights_flagged(r_i_.data(), r_d_.data(), flags_.data(), n, options_.weights,
+                                                       w_i_.data(), w_d_.data(), stats_.joint_scale);
+    stats_.sigma_intensity = std::sqrt(stats_.joint_scale.s_ii);
+    stats_.sigma_depth = std::sqrt(stats_.joint_scale.s_dd);
+    model_.kind = WeightModel::kStored;
+    return;
+  }
   if (mask.intensity) {
     const ResidualSet set{r_i_.data(), flags_.data(), 1, at.valid_i, at.ss_i};
     // Warm start: the scale changes little between the iterations of one problem.
@@ -201,6 +211,7 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
 }
 
 void RgbdOdometryProblem::ensure_weights(const Eigen::VectorXd& x, ObjectiveMask mask) {
+  if (options_.joint_weights) mask = both();  // one weight from both residuals
   const ObjectiveMask missing{mask.intensity && !weights_mask_.intensity, mask.depth && !weights_mask_.depth};
   if (!missing.intensity && !missing.depth) return;
   warp_all(x, unite(mask, warp_x_.size() == x.size() && warp_x_ == x ? warp_mask_ : mask), false);

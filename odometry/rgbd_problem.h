@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry/joint_weights.h"
 #include "odometry/reference_terms.h"
 #include "odometry/rgbd_kernels.h"
 #include "odometry/robust_weights.h"
@@ -46,6 +47,9 @@ struct RgbdProblemOptions {
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;
+  // true: ONE weight per pixel for (r_I, r_D) from the bivariate t-distribution with scale
+  // matrix S (joint_weights.h; method "joint") instead of two independent weightings.
+  bool joint_weights = false;
   // false: linearize() and evaluate() build F_1 only and report F_2 = 0 with a zero model
   // (methods with lambda = 0); objectives_at() still gives both.
   bool model_f2 = true;
@@ -60,6 +64,7 @@ struct RgbdLinearizationStats {
   int valid_depth = 0;         // terms with a valid r_D at x
   double sigma_intensity = 0.0, sigma_depth = 0.0;          // robust scales
   double weight_sum_intensity = 0.0, weight_sum_depth = 0.0;  // trace of Omega_I, Omega_D
+  JointScale joint_scale;      // options.joint_weights: the scale matrix S (else zero)
   double f_intensity = 0.0, f_depth = 0.0;                  // F_I, F_D at x (0 when not modelled)
 };
 

@@ -28,6 +28,48 @@ std::string backend_for(const TrackerOptions& options) {
 
 bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
 
+struct NoiseBoundedLevel {
+  solvers::Summary summary;  // of the bounded stage (iterations: both stages)
+  double eps_bar = 0.0;      // [m^2 per unit weight]
+  bool relaxed = false;
+};
+
+// Method noise-bounded at one level (odometry_methods.h): the photometric solution x_I,
+// the depth-residual level there, the bounded solve from x_I, and the guard.
+template <class Run>
+NoiseBoundedLevel solve_noise_bounded(RgbdOdometryProblem& problem, const PolicyParameters& policy, const Run& run,
+                                      const solvers::SolverOptions& solver_options, Eigen::VectorXd& x) {
+  NoiseBoundedLevel out;
+  const solvers::Summary photometric = solvers::solve(problem, solvers::WeightedSum(0.0), "gn", x, solver_options);
+  const Eigen::VectorXd x_i = x;
+  // The first linearization of the bounded stage is at x_I: its F_D / trace(Omega_D) is the
+  // depth-residual level the bound is relative to; eps_bar is frozen there.
+  RgbdOdometryProblem* p = &problem;
+  double* eps_bar = &out.eps_bar;
+  bool first = true;
+  bool* pending = &first;
+  const double ratio = policy.eps_ratio;
+  out.summary = run(solvers::EpsilonConstraint([p, eps_bar, pending, ratio](const solvers::Linearization&) {
+    const RgbdLinearizationStats& st = p->last_stats();
+    if (*pending) {
+      *eps_bar = st.weight_sum_depth > 0.0 ? ratio * st.f_depth / st.weight_sum_depth : 0.0;
+      *pending = false;
+    }
+    return *eps_bar * st.weight_sum_depth;  // no depth residual: F_D = 0 <= 0 holds
+  }));
+  out.summary.iterations += photometric.iterations;
+  // Guard: F_I at the bounded estimate vs at x_I, both under the latest weights.
+  const double f_bounded = problem.evaluate_intensity_depth(x)[0];
+  const auto f_photometric = problem.evaluate_intensity_depth(x_i);
+  if (!x.allFinite() || f_bounded - f_photometric[0] > policy.guard * f_photometric[0]) {
+    out.relaxed = true;
+    x = x_i;
+    out.summary.final_f1 = f_photometric[0];
+    out.summary.final_f2 = f_photometric[1];
+  }
+  return out;
+}
+
 constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
@@ -77,6 +119,15 @@ void validate(const TrackerOptions& options) {
   }
   if (method == Method::kFixed && !(options.policy.lambda >= 0.0 && std::isfinite(options.policy.lambda))) {
     throw Error("fixed lambda must be finite and >= 0, got " + std::to_string(options.policy.lambda));
+  }
+  if (!(options.policy.kappa >= 0.0 && std::isfinite(options.policy.kappa))) {
+    throw Error("kappa must be finite and >= 0, got " + std::to_string(options.policy.kappa));
+  }
+  if (!(options.policy.eps_ratio > 0.0 && std::isfinite(options.policy.eps_ratio))) {
+    throw Error("eps ratio must be finite and > 0, got " + std::to_string(options.policy.eps_ratio));
+  }
+  if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
+    throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
   if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
     throw Error("pixel motion tolerance must be finite and >= 0, got " + std::to_string(options.pixel_motion_tolerance));
@@ -134,10 +185,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   result.t_reference = reference.pyramid.timestamp;
   result.t_current = current.pyramid.timestamp;
   double lambda = 0.0, eps_bar = 0.0;
-  if (is_bounded(method)) {
+  if (method == Method::kBounded) {
     eps_bar = bounded_epsilon_per_weight(reference.statistics, options.policy);
     result.epsilon_per_weight = eps_bar;
-  } else {
+  } else if (!is_bounded(method) && !lambda_from_residuals(method)) {
     std::string why;
     const std::optional<double> defined = frame_lambda(method, reference.statistics, options.policy, &why);
     if (!defined) {
@@ -154,6 +205,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   }
   RgbdProblemOptions problem_options = options.problem;
   problem_options.depth_first = method == Method::kDepth;
+  problem_options.joint_weights = method == Method::kJoint;
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
   problem_options.model_f2 = !one_objective;
@@ -181,25 +233,43 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       result.levels.push_back(lr);
       continue;
     }
-    std::unique_ptr<solvers::Scalarization> scalarization;
-    if (is_bounded(method)) {
-      // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
-      RgbdOdometryProblem* p = &problem;
-      scalarization = std::make_unique<solvers::EpsilonConstraint>(
-          [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; });
-    } else {
-      scalarization = std::make_unique<solvers::WeightedSum>(lambda);
-    }
     if (options.pixel_motion_tolerance > 0.0) {
       solver_options.step_measure = [&problem](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
         return problem.pixel_motion(at, delta);
       };
       solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
     }
+    const auto run = [&](const solvers::Scalarization& scalarization) {
+      return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, solver_options)
+                           : solvers::solve(problem, scalarization, *step_backend, x, solver_options);
+    };
     const Eigen::VectorXd x_before = x;
-    const solvers::Summary summary = whole_problem
-                                         ? solvers::solve(problem, *scalarization, backend_name, x, solver_options)
-                                         : solvers::solve(problem, *scalarization, *step_backend, x, solver_options);
+    solvers::Summary summary;
+    double level_lambda = lambda;
+    if (method == Method::kBounded) {
+      // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
+      RgbdOdometryProblem* p = &problem;
+      summary = run(solvers::EpsilonConstraint(
+          [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; }));
+    } else if (method == Method::kNoiseBounded) {
+      const NoiseBoundedLevel nb = solve_noise_bounded(problem, options.policy, run, solver_options, x);
+      summary = nb.summary;
+      lr.relaxed = nb.relaxed;
+      if (nb.relaxed) {
+        ++result.relaxed_levels;
+        result.note += "level " + std::to_string(level) + " bound relaxed; ";
+      }
+      result.epsilon_per_weight = nb.eps_bar;
+    } else if (lambda_from_residuals(method)) {
+      RgbdOdometryProblem* p = &problem;
+      const PolicyParameters policy = options.policy;
+      double* last = &level_lambda;
+      summary = run(solvers::WeightedSum([p, method, policy, last](const solvers::Linearization&) {
+        return *last = residual_lambda(method, p->last_stats(), policy);
+      }));
+    } else {
+      summary = run(solvers::WeightedSum(lambda));
+    }
     const RgbdLinearizationStats& stats = problem.last_stats();
     lr.valid_intensity = stats.valid_intensity;
     lr.valid_depth = stats.valid_depth;
@@ -229,7 +299,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       lr.epsilon = summary.epsilon;
       lr.mu = summary.multiplier;
     } else {
-      lr.lambda = lambda;
+      lr.lambda = level_lambda;
+      lr.correlation = stats.joint_scale.correlation();
+      result.lambda = lr.lambda;
+      result.correlation = lr.correlation;
     }
     result.f_i = lr.f_i;
     result.f_d = lr.f_d;
@@ -329,6 +402,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   }
   RgbdProblemOptions po = options.problem;
   po.depth_first = parse_method(options.method) == Method::kDepth;
+  po.joint_weights = parse_method(options.method) == Method::kJoint;
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }
 

@@ -45,7 +45,7 @@ InitialGuess parse_initial_guess(const std::string& name);  // "identity" | "con
 const char* to_string(InitialGuess guess);
 
 struct TrackerOptions {
-  std::string method = "weighted";  // single, depth, fixed, tykkala, weighted, bounded
+  std::string method = "weighted";  // single, depth, fixed, tykkala, weighted, bounded, joint, scaled, noise-bounded
   std::string backend;              // empty: default_backend(method) (gn / exact)
   PolicyParameters policy;          // lambda (fixed), phi, delta, eps_min/eps_max/eps (bounded)
   int levels = 4;                   // 640x480 .. 80x60
@@ -87,7 +87,9 @@ struct LevelResult {
   double f_i = 0.0, f_d = 0.0;  // final objectives (weights of the last linearization; the
                                 // objective single / depth do not optimize: NaN unless
                                 // TrackerOptions::evaluate_unused_objective)
-  double lambda = 0.0;      // weighted sum: lambda used
+  double lambda = 0.0;      // weighted sum: lambda used (joint, scaled: at the last step)
+  double correlation = 0.0; // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
+  bool relaxed = false;     // noise-bounded: the guard relaxed the bound (x_I kept)
   double epsilon = 0.0;     // bounded: epsilon bound on F_D at the last step
   double mu = 0.0;          // bounded: multiplier of the last step (+inf: infeasible)
   std::string termination;
@@ -101,7 +103,9 @@ struct PairResult {
   bool valid = true;                     // false: every level skipped, T_21 = motion prior
   std::string note;                      // why a level or the pair was degraded
   int iterations = 0;                    // outer iterations over all levels
-  double lambda = 0.0, epsilon = 0.0, mu = 0.0;  // at the finest level solved
+  double lambda = 0.0, epsilon = 0.0, mu = 0.0;  // at the finest level solved (joint: implied lambda)
+  double correlation = 0.0;              // joint: rho of S at the finest level solved
+  int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed
   double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
   double f_i = 0.0, f_d = 0.0;           // at the finest level solved
   double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding), wall

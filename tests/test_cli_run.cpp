@@ -202,6 +202,27 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
   EXPECT_NE(slurp(dir_ / "c.config.json").find("\"eps_min\": 0.0002"), std::string::npos);
 }
 
+// The new policies' fields (issue 13, items 2-3) take the same road: flags -> file -> run.
+// One method, two frames: each bivo process costs about a second on CI (kappa and
+// joint_weights round-trip through the file in TrackerConfig.EveryFieldRoundTrips...).
+TEST_F(CliRun, NewPolicyFieldsRoundTripThroughTheConfig) {
+  const std::string flags = " --method noise-bounded --eps-ratio 0.7 --guard 0.03 --levels 2 --finest-level 1";
+  const CliResult a = run_bivo("run " + seq() + flags + " --max-frames 2 --output " + q(dir_ / "a.txt"), dir_);
+  ASSERT_EQ(a.status, 0) << a.err;
+  const std::string config = slurp(dir_ / "a.config.json");
+  EXPECT_NE(config.find("\"eps_ratio\": 0.7"), std::string::npos) << config;
+  EXPECT_NE(config.find("\"guard\": 0.03"), std::string::npos) << config;
+  const CliResult b =
+      run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"), dir_);
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(slurp(dir_ / "b.txt"), slurp(dir_ / "a.txt"));
+  EXPECT_EQ(slurp(dir_ / "b.config.json"), config);
+  // A policy flag of another method is refused, naming its method.
+  const CliResult bad = run_bivo("run " + seq() + " --method joint --kappa 2 --output " + q(dir_ / "x.txt"), dir_);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("scaled"), std::string::npos) << bad.err;
+}
+
 TEST_F(CliRun, BadConfigFileNamesTheKeyAndWritesNothing) {
   std::ofstream(dir_ / "cfg.json") << R"({"method": "single", "levles": 3})";
   const CliResult r =

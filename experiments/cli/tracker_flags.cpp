@@ -55,6 +55,13 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
                            d.policy.eps_max, [](TrackerOptions& o, const double& v) { o.policy.eps_max = v; });
     eps_ = add<double>("--eps", "method bounded: fixed bound on F_D per unit weight [m^2] instead of the pi(D) rule",
                        0.0, [](TrackerOptions& o, const double& v) { o.policy.eps = v; });
+    kappa_ = add<double>("--kappa", "method scaled: lambda = kappa sigma_I^2 / sigma_D^2 (robust scales)",
+                         d.policy.kappa, [](TrackerOptions& o, const double& v) { o.policy.kappa = v; });
+    eps_ratio_ = add<double>("--eps-ratio",
+                             "method noise-bounded: eps_bar / (F_D per unit weight at the photometric solution)",
+                             d.policy.eps_ratio, [](TrackerOptions& o, const double& v) { o.policy.eps_ratio = v; });
+    guard_ = add<double>("--guard", "method noise-bounded: relative rise of F_I beyond which the bound is relaxed",
+                         d.policy.guard, [](TrackerOptions& o, const double& v) { o.policy.guard = v; });
   }
   add<int>("--levels", "pyramid levels (640x480 down to 640/2^(L-1))", d.levels,
            [](TrackerOptions& o, const int& v) { o.levels = v; });
@@ -134,6 +141,9 @@ TrackerOptions TrackerFlags::options() const {
     only_for(delta_, odometry::Method::kBounded);
     only_for(eps_min_, odometry::Method::kBounded);
     only_for(eps_max_, odometry::Method::kBounded);
+    only_for(kappa_, odometry::Method::kScaled);
+    only_for(eps_ratio_, odometry::Method::kNoiseBounded);
+    only_for(guard_, odometry::Method::kNoiseBounded);
   }
   odometry::validate(o);
   return o;
