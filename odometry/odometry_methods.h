@@ -16,8 +16,9 @@
 //                                            scales of the current linearization
 //   noise-bounded  per level: x_I = argmin F_I; then min F_I s.t. F_D <= eps_D with
 //             eps_bar = eps_ratio * (F_D / trace Omega_D at x_I), the depth-residual level at the
-//             photometric solution; guard: when F_I rises by more than guard * F_I(x_I) the
-//             photometric data reject the bound (biased depth) and it is relaxed (x_I kept).
+//             photometric solution; guard: when F_I rises by more than guard * sigma_I^2 (its
+//             noise variance: a chi-square-like test of the photometric data) they reject the
+//             bound (biased depth) and it is relaxed (x_I kept).
 // Statistics are those of the reference frame at full resolution (image_statistics.h).
 //
 // eps_D is a bound on F_D = sum_i w_i r_D,i^2, which grows with the number of valid pixels
@@ -55,7 +56,7 @@ struct PolicyParameters {
   std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
   double kappa = 1.0;           // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
   double eps_ratio = 0.5;       // method noise-bounded: eps_bar / depth-residual level at x_I
-  double guard = 0.02;          // method noise-bounded: relative rise of F_I that relaxes the bound
+  double guard = 0.02;          // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
 };
 
 double tykkala_lambda(const FrameStatistics& s);

@@ -31,6 +31,7 @@ bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
 struct NoiseBoundedLevel {
   solvers::Summary summary;  // of the bounded stage (iterations: both stages)
   double eps_bar = 0.0;      // [m^2 per unit weight]
+  double rise = 0.0;         // (F_I(bounded) - F_I(x_I)) / sigma_I^2
   bool relaxed = false;
 };
 
@@ -58,10 +59,16 @@ NoiseBoundedLevel solve_noise_bounded(RgbdOdometryProblem& problem, const Policy
     return *eps_bar * st.weight_sum_depth;  // no depth residual: F_D = 0 <= 0 holds
   }));
   out.summary.iterations += photometric.iterations;
-  // Guard: F_I at the bounded estimate vs at x_I, both under the latest weights.
+  // Guard: the rise of F_I from x_I to the bounded estimate, both under the latest weights,
+  // in units of the intensity noise variance sigma_I^2 of that linearization. F_I / sigma_I^2
+  // is the whitened photometric cost, so the rise is chi-square-like (6 degrees of freedom)
+  // when the depth objective only moves x within the photometric noise; a biased depth image
+  // moves it further, and then the photometric data reject the bound.
+  const double sigma_i = problem.last_stats().sigma_intensity;
   const double f_bounded = problem.evaluate_intensity_depth(x)[0];
   const auto f_photometric = problem.evaluate_intensity_depth(x_i);
-  if (!x.allFinite() || f_bounded - f_photometric[0] > policy.guard * f_photometric[0]) {
+  out.rise = sigma_i > 0.0 ? (f_bounded - f_photometric[0]) / (sigma_i * sigma_i) : 0.0;
+  if (!x.allFinite() || !(out.rise <= policy.guard)) {
     out.relaxed = true;
     x = x_i;
     out.summary.final_f1 = f_photometric[0];

@@ -60,7 +60,7 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
     eps_ratio_ = add<double>("--eps-ratio",
                              "method noise-bounded: eps_bar / (F_D per unit weight at the photometric solution)",
                              d.policy.eps_ratio, [](TrackerOptions& o, const double& v) { o.policy.eps_ratio = v; });
-    guard_ = add<double>("--guard", "method noise-bounded: relative rise of F_I beyond which the bound is relaxed",
+    guard_ = add<double>("--guard", "method noise-bounded: rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
                          d.policy.guard, [](TrackerOptions& o, const double& v) { o.policy.guard = v; });
   }
   add<int>("--levels", "pyramid levels (640x480 down to 640/2^(L-1))", d.levels,
