@@ -53,6 +53,13 @@ ConstraintMatrix::ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd&
   build(G, &row_scale, &col_scale, dense_fill, dense_max_cols);
 }
 
+void ConstraintMatrix::assign(const SparseMatrix& G, const Eigen::VectorXd& row_scale,
+                              const Eigen::VectorXd& col_scale, double dense_fill, int dense_max_cols) {
+  grams_.clear();
+  dense_grams_.clear();
+  build(G, &row_scale, &col_scale, dense_fill, dense_max_cols);
+}
+
 void ConstraintMatrix::build(const SparseMatrix& G, const Eigen::VectorXd* row_scale, const Eigen::VectorXd* col_scale,
                              double dense_fill, int dense_max_cols) {
   rows_ = static_cast<int>(G.rows());

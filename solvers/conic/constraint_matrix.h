@@ -21,11 +21,18 @@ using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 class ConstraintMatrix {
  public:
+  ConstraintMatrix() = default;
   // Dense when nnz >= dense_fill * rows * cols and cols <= dense_max_cols.
   explicit ConstraintMatrix(const SparseMatrix& G, double dense_fill = 0.5, int dense_max_cols = 64);
   // The copy is diag(row_scale) G diag(col_scale).
   ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
                    double dense_fill = 0.5, int dense_max_cols = 64);
+
+  // Replaces the matrix by diag(row_scale) G diag(col_scale), in the buffers of the last one
+  // (a solver workspace: no fresh memory when the size is the same); cached Gram matrices
+  // are dropped.
+  void assign(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
+              double dense_fill = 0.5, int dense_max_cols = 64);
 
   // By columns, compressed; only when !dense() (a dense G keeps no sparse copy).
   const SparseMatrix& sparse() const { return G_; }

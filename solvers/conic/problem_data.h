@@ -44,6 +44,7 @@ struct Equilibration {
 // block maxima of [A; G] (one row per equality, per orthant row and per second-order cone),
 // formed in one sweep over the data; for the paper's SOCP that is a 2 x 7 matrix.
 Equilibration equilibration_factors(const ConicProblem& problem, int passes);
+void equilibration_factors(const ConicProblem& problem, int passes, Equilibration& out);  // into out's buffers
 // Scales c, b, h and A in place (G is scaled where its copy is made: ConstraintMatrix).
 void scale_vectors_and_equalities(ConicProblem& problem, const Equilibration& e);
 // Both, and G scaled in place too.
