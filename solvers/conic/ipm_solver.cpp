@@ -80,7 +80,9 @@ class Solver {
     KktSettings ks;
     ks.static_regularization = st_.static_regularization;
     ks.max_refinement_steps = st_.max_refinement_steps;
-    if (original.G.cols() == n) {
+    if (original.has_dense_G()) {
+      gmat_.assign(original.dense_G, eq_.row_cone, eq_.col);
+    } else if (original.G.cols() == n) {
       gmat_.assign(original.G, eq_.row_cone, eq_.col);
     } else {
       gmat_.assign(SparseMatrix(original.num_cone_rows(), n), eq_.row_cone, eq_.col);

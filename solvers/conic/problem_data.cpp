@@ -50,10 +50,17 @@ void validate(const ConicProblem& p) {
     throw Error("conic problem: A has " + std::to_string(p.A.rows()) + " rows but b has " +
                 std::to_string(p.b.size()) + " entries");
   }
-  if (p.G.cols() != n && !(p.G.rows() == 0 && p.G.cols() == 0)) {
+  if (p.has_dense_G()) {
+    if (p.G.rows() != 0 || p.G.cols() != 0) throw Error("conic problem: both a sparse and a dense G");
+    if (p.dense_G.cols() != n || p.dense_G.rows() != p.h.size()) {
+      throw Error("conic problem: dense G is " + std::to_string(p.dense_G.rows()) + " x " +
+                  std::to_string(p.dense_G.cols()) + " but c has " + std::to_string(n) + " entries and h " +
+                  std::to_string(p.h.size()));
+    }
+  } else if (p.G.cols() != n && !(p.G.rows() == 0 && p.G.cols() == 0)) {
     throw Error("conic problem: G is " + dims(p.G) + " but c has " + std::to_string(n) + " entries");
   }
-  if (p.G.rows() != p.h.size()) {
+  if (!p.has_dense_G() && p.G.rows() != p.h.size()) {
     throw Error("conic problem: G has " + std::to_string(p.G.rows()) + " rows but h has " +
                 std::to_string(p.h.size()) + " entries");
   }
@@ -77,6 +84,15 @@ void validate(const ConicProblem& p) {
   check_finite(p.h, "h");
   check_finite(p.A, "A");
   check_finite(p.G, "G");
+  if (p.has_dense_G() && !kernels::all_finite(p.dense_G.size(), p.dense_G.data())) {
+    for (Eigen::Index j = 0; j < p.dense_G.cols(); ++j) {
+      for (Eigen::Index i = 0; i < p.dense_G.rows(); ++i) {
+        if (!std::isfinite(p.dense_G(i, j))) {
+          throw Error("conic problem: G(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite");
+        }
+      }
+    }
+  }
 }
 
 Equilibration identity_equilibration(const ConicProblem& p) {
@@ -135,6 +151,17 @@ void equilibration_factors(const ConicProblem& p, int passes, Equilibration& e) 
         q = run_end;
       }
     }
+    if (p.has_dense_G()) {  // one run per block of the column
+      const double* col = p.dense_G.col(j).data();
+      for (int i = 0; i < l; ++i) {
+        block.push_back(me + i);
+        bmax.push_back(std::abs(col[i]));
+      }
+      for (int k = 0, begin = l; k < nsoc; begin = soc_end[k++]) {
+        block.push_back(me + l + k);
+        bmax.push_back(kernels::max_abs(soc_end[k] - begin, col + begin));
+      }
+    }
     start[j + 1] = static_cast<int>(block.size());
   }
   // A scale of 0 (empty row/column) stays 1; each pass is bounded to avoid overflow on
@@ -185,6 +212,7 @@ void scale_vectors_and_equalities(ConicProblem& p, const Equilibration& e) {
 Equilibration equilibrate(ConicProblem& p, int passes) {
   const Equilibration e = equilibration_factors(p, passes);
   scale_vectors_and_equalities(p, e);
+  if (p.has_dense_G()) p.dense_G = e.row_cone.asDiagonal() * p.dense_G * e.col.asDiagonal();
   for (int j = 0; j < p.G.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) it.valueRef() *= e.row_cone[it.row()] * e.col[j];
   }

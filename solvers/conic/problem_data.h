@@ -18,12 +18,17 @@ struct ConicProblem {
   SparseMatrix A;   // p x n (p may be 0)
   Eigen::VectorXd b;
   SparseMatrix G;   // m x n, m = cones.dim()
+  // Or G as a dense m x n matrix (then G stays 0 x 0): for a G with few columns that are
+  // mostly full, as the paper's full form (7 columns, n+1 rows of 6 Jacobian entries), built
+  // straight into the layout the solver multiplies with (constraint_matrix.h).
+  Eigen::MatrixXd dense_G;
   Eigen::VectorXd h;
   ConeSpec cones;
 
   int num_variables() const { return static_cast<int>(c.size()); }
   int num_equalities() const { return static_cast<int>(b.size()); }
   int num_cone_rows() const { return static_cast<int>(h.size()); }
+  bool has_dense_G() const { return dense_G.size() > 0; }
 };
 
 // Dimensions agree, cone sizes sum to the rows of G, every entry finite. Throws bivo::Error

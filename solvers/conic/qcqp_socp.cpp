@@ -148,47 +148,26 @@ void full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsil
   p.b.resize(0);
   p.cones.nonnegative = 0;
   p.cones.soc = {n1 + 1, n2 + 1};
+  p.G.resize(0, 0);
+  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2] is 7 mostly full columns: written
+  // dense, straight into the layout the IPM multiplies with (in a workspace, into the last
+  // step's buffers). Each block's column 1 holds W^{1/2} until it is the last one written.
+  p.dense_G.resize(rows, dim + 1);
+  p.dense_G.col(0).setZero();
+  p.dense_G(0, 0) = -1.0;
   p.h.resize(rows);
   p.h[0] = 0.0;
-  p.h.segment(1, n1) = f1.w.cwiseSqrt().cwiseProduct(f1.r);
   p.h[n1 + 1] = std::sqrt(epsilon);
-  p.h.segment(n1 + 2, n2) = f2.w.cwiseSqrt().cwiseProduct(f2.r);
-  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2], written straight into its compressed
-  // column arrays (exact zeros of invalid terms are not stored), counted first so the
-  // arrays are sized once (and, in a workspace, are the last step's).
-  auto nonzeros = [](const ResidualData& f, int j) {
-    int count = 0;
-    const double* col = f.J.col(j).data();
-    const double* w = f.w.data();
-    for (Eigen::Index i = 0; i < f.r.size(); ++i) count += (std::sqrt(w[i]) * col[i] != 0.0) ? 1 : 0;
-    return count;
+  auto block = [&](const ResidualData& f, int row0, int n) {
+    auto sw = p.dense_G.col(1).segment(row0, n);
+    sw = f.w.cwiseSqrt();
+    p.h.segment(row0, n) = sw.cwiseProduct(f.r);
+    for (int j = dim - 1; j >= 0; --j) p.dense_G.col(j + 1).segment(row0, n) = -sw.cwiseProduct(f.J.col(j));
   };
-  p.G.resize(rows, dim + 1);
-  int* outer = p.G.outerIndexPtr();
-  outer[0] = 0;
-  outer[1] = 1;
-  for (int j = 0; j < dim; ++j) outer[j + 2] = outer[j + 1] + nonzeros(f1, j) + nonzeros(f2, j);
-  p.G.resizeNonZeros(outer[dim + 1]);
-  int* inner = p.G.innerIndexPtr();
-  double* values = p.G.valuePtr();
-  inner[0] = 0;
-  values[0] = -1.0;
-  for (int j = 0; j < dim; ++j) {
-    int e = outer[j + 1];
-    auto append = [&](const ResidualData& f, int row0) {
-      const double* col = f.J.col(j).data();
-      const double* w = f.w.data();
-      for (Eigen::Index i = 0; i < f.r.size(); ++i) {
-        const double v = std::sqrt(w[i]) * col[i];
-        if (v != 0.0) {
-          inner[e] = row0 + static_cast<int>(i);
-          values[e++] = -v;
-        }
-      }
-    };
-    append(f1, 1);
-    append(f2, n1 + 2);
-  }
+  block(f1, 1, n1);
+  block(f2, n1 + 2, n2);
+  p.dense_G.row(0).tail(dim).setZero();
+  p.dense_G.row(n1 + 1).tail(dim).setZero();
 }
 
 ConicProblem compressed_qcqp_socp(const ConeFactor& f1, const ConeFactor& f2, double epsilon) {
