@@ -126,8 +126,10 @@ TEST(IpmWorkspace, ReusedAcrossProblemsGivesExactlyTheFreshSolvesResults) {
 
   conic::IpmWorkspace workspace;
   for (std::size_t i = 0; i < problems.size(); ++i) {
-    const conic::IpmResult fresh = conic::solve_conic(problems[i], conic::step_ipm_settings());
-    const conic::IpmResult& reused = conic::solve_conic(problems[i], conic::step_ipm_settings(), workspace);
+    // Every other solve without the polish: the workspace's polisher must then stay unused.
+    const conic::IpmSettings st = i % 2 ? conic::unpolished_step_ipm_settings() : conic::step_ipm_settings();
+    const conic::IpmResult fresh = conic::solve_conic(problems[i], st);
+    const conic::IpmResult& reused = conic::solve_conic(problems[i], st, workspace);
     EXPECT_EQ(reused.status, fresh.status) << "problem " << i;
     EXPECT_EQ(reused.iterations, fresh.iterations) << "problem " << i;
     EXPECT_EQ(reused.polished, fresh.polished) << "problem " << i;

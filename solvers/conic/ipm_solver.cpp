@@ -317,7 +317,7 @@ IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) 
 }
 
 bool Solver::try_polish(const Variables& v, double feastol, double abstol, double reltol) {
-  if (!polisher_) return false;
+  if (!st_.polish || !polisher_) return false;  // (a workspace keeps the polisher of earlier solves)
   PhaseScope phase(clock_, IpmPhase::kPolish);
   if (clock_) ++clock_->timings().polish_attempts;
   if (!polisher_->polish(v, polished_)) return false;
