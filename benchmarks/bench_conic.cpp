@@ -120,17 +120,20 @@ const PaperInstance& paper_instance(int width, bool active, int seed) {
 }
 
 // The ipm-full step as the tracker takes it (IpmFullBackend's defaults: the paper's SOCP
-// built from the residuals and solved, and the compressed-form fallback when the full form's
-// answer is not the exact step), so the time includes building the SOCP, which ECOS's does not.
+// built from the residuals and solved in the backend's workspace, kept from step to step,
+// and the compressed-form fallback when the full form's answer is not the exact step), so
+// the time includes building the SOCP, which ECOS's does not.
 void BM_PaperSocp(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0));
   const PaperInstance& inst = paper_instance(width, state.range(1) != 0, static_cast<int>(state.range(2)));
   const Linearization& lin = inst.step.lin;
   const conic::IpmSettings settings = conic::step_ipm_settings();
   conic::QcqpConeStep r;
+  conic::FullFormWorkspace workspace;  // as IpmFullBackend keeps one from step to step
   for (auto _ : state) {
-    r = conic::with_compressed_fallback(conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, inst.step.epsilon, settings),
-                                        lin.f1, lin.f2, inst.step.epsilon, settings);
+    r = conic::with_compressed_fallback(
+        conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, inst.step.epsilon, settings, workspace), lin.f1, lin.f2,
+        inst.step.epsilon, settings);
     benchmark::DoNotOptimize(r.delta.data());
   }
   state.counters["n"] = width * (width * 3 / 4);

@@ -78,19 +78,23 @@ bool ConeProduct::interior(const Eigen::VectorXd& u) const {
 
 NtScaling ConeProduct::identity_scaling() const {
   NtScaling w;
-  w.orthant_w = Eigen::VectorXd::Ones(spec_.nonnegative);
+  identity_scaling(w);
+  return w;
+}
+
+void ConeProduct::identity_scaling(NtScaling& w) const {
+  w.orthant_w.setOnes(spec_.nonnegative);
   w.soc.resize(soc_count());
   for (int k = 0; k < soc_count(); ++k) {
     SocScaling& sc = w.soc[k];
     sc.beta = 1.0;
-    sc.wb = Eigen::VectorXd::Zero(spec_.soc[k]);
+    sc.wb.setZero(spec_.soc[k]);
     sc.wb[0] = 1.0;
     sc.q0 = 1.0;
     sc.q1_norm = 0.0;
     sc.cplus = 0.0;
     sc.cminus = 0.0;
   }
-  return w;
 }
 
 bool ConeProduct::compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorXd& z, NtScaling& w,
@@ -136,10 +140,10 @@ bool ConeProduct::compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorX
     const double inv = 1.0 / (sc.q0 + nq);                          // q0 - ||q1||
     sc.cminus = 0.5 * (sum_minus_one * inv) * (1.0 + inv);
   }
-  // lambda = W z.
-  Eigen::VectorXd wz;
-  apply_w(w, z, wz);
-  lambda.tail(dim_ - l) = wz.tail(dim_ - l);
+  // lambda = W z on the cones (in place: no buffer of the cone's size per iteration); the
+  // orthant part keeps sqrt(s z), computed above, rather than W z = sqrt(s/z) z.
+  apply_w(w, z, lambda);
+  for (int i = 0; i < l; ++i) lambda[i] = std::sqrt(s[i] * z[i]);
   return true;
 }
 

@@ -60,6 +60,7 @@ class ConeProduct {
   bool interior(const Eigen::VectorXd& u) const;
 
   NtScaling identity_scaling() const;
+  void identity_scaling(NtScaling& w) const;  // into w's buffers
   // Computes the NT scaling of the pair (s, z) and lambda = W z; false if either leaves int K.
   bool compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorXd& z, NtScaling& w,
                        Eigen::VectorXd& lambda) const;

@@ -9,6 +9,7 @@
 // The matrix is a copy, optionally equilibrated on the way in (E G D in one sweep).
 #include <map>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -21,11 +22,20 @@ using RowMajorMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 class ConstraintMatrix {
  public:
+  ConstraintMatrix() = default;
   // Dense when nnz >= dense_fill * rows * cols and cols <= dense_max_cols.
   explicit ConstraintMatrix(const SparseMatrix& G, double dense_fill = 0.5, int dense_max_cols = 64);
   // The copy is diag(row_scale) G diag(col_scale).
   ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
                    double dense_fill = 0.5, int dense_max_cols = 64);
+
+  // Replaces the matrix by diag(row_scale) G diag(col_scale), in the buffers of the last one
+  // (a solver workspace: no fresh memory when the size is the same); cached Gram matrices
+  // are dropped.
+  void assign(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
+              double dense_fill = 0.5, int dense_max_cols = 64);
+  // A dense G, kept dense: one scaled copy, no scatter.
+  void assign(const Eigen::MatrixXd& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale);
 
   // By columns, compressed; only when !dense() (a dense G keeps no sparse copy).
   const SparseMatrix& sparse() const { return G_; }
@@ -60,7 +70,12 @@ class ConstraintMatrix {
   void build(const SparseMatrix& G, const Eigen::VectorXd* row_scale, const Eigen::VectorXd* col_scale,
              double dense_fill, int dense_max_cols);
 
+  void find_column_ranges();
+
   mutable IpmClock* clock_ = nullptr;
+  // Dense layout: per column the rows [first, last) outside which it is zero (the paper's
+  // column of t has one entry), so products skip the zeros.
+  std::vector<Eigen::Index> first_, last_;
   SparseMatrix G_;
   RowMajorMatrix Gr_;
   Eigen::MatrixXd Gd_;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <ostream>
+#include <utility>
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/kkt_system.h"
@@ -46,11 +47,21 @@ IpmStatus classify(const Residuals& r, double feastol, double abstol, double rel
 
 class Solver {
  public:
-  Solver(const ConicProblem& original, const IpmSettings& settings, IpmClock* clock)
-      : op_(original), st_(settings), clock_(clock) {
+  // One solve: the set-up (scaled copy of the data, KKT pattern, ordering) into this
+  // object's buffers, then the iterations; the result stays in result_.
+  IpmResult& run(const ConicProblem& original, const IpmSettings& settings, IpmClock* clock) {
+    setup(original, settings, clock);
+    return iterate();
+  }
+
+ private:
+  void setup(const ConicProblem& original, const IpmSettings& settings, IpmClock* clock) {
+    op_ = &original;
+    st_ = settings;
+    clock_ = clock;
     PhaseScope phase(clock_, IpmPhase::kEquilibration);
-    // The scaled problem: c, A, b, h copied and scaled here; G only once, scaled on the way
-    // into its product layout (ConstraintMatrix).
+    // The scaled problem: c, A, b, h copied and scaled here (into the buffers of the last
+    // solve); G only once, scaled on the way into its product layout (ConstraintMatrix).
     const int n = original.num_variables();
     sp_.c = original.c;
     sp_.A = original.A;
@@ -58,40 +69,54 @@ class Solver {
     sp_.h = original.h;
     sp_.cones = original.cones;
     if (sp_.A.cols() != n) sp_.A.resize(0, n);
-    sp_.G.resize(0, n);
-    eq_ = equilibration_factors(original, st_.equilibration_passes);
+    equilibration_factors(original, st_.equilibration_passes, eq_);
     scale_vectors_and_equalities(sp_, eq_);
     sp_.A.makeCompressed();  // the KKT system reads the compressed arrays directly
-    cones_ = std::make_unique<ConeProduct>(sp_.cones);
+    if (cones_) {
+      *cones_ = ConeProduct(sp_.cones);  // same object: the KKT system and polisher refer to it
+    } else {
+      cones_ = std::make_unique<ConeProduct>(sp_.cones);
+    }
     KktSettings ks;
     ks.static_regularization = st_.static_regularization;
     ks.max_refinement_steps = st_.max_refinement_steps;
-    const SparseMatrix empty(original.num_cone_rows(), n);
-    gmat_ = std::make_unique<ConstraintMatrix>(original.G.cols() == n ? original.G : empty, eq_.row_cone, eq_.col);
-    gmat_->set_clock(clock_);
-    kkt_ = std::make_unique<KktSystem>(sp_.A, *gmat_, *cones_, ks, clock_);
-    if (st_.polish) polisher_ = std::make_unique<Polisher>(sp_, *gmat_, *cones_);
+    if (original.has_dense_G()) {
+      gmat_.assign(original.dense_G, eq_.row_cone, eq_.col);
+    } else if (original.G.cols() == n) {
+      gmat_.assign(original.G, eq_.row_cone, eq_.col);
+    } else {
+      gmat_.assign(SparseMatrix(original.num_cone_rows(), n), eq_.row_cone, eq_.col);
+    }
+    gmat_.set_clock(clock_);
+    kkt_.setup(sp_.A, gmat_, *cones_, ks, clock_);
+    if (st_.polish) {
+      if (!polisher_) polisher_ = std::make_unique<Polisher>(sp_, gmat_, *cones_);
+      polisher_->reset();
+    }
     n_ = n;
     p_ = sp_.num_equalities();
     m_ = sp_.num_cone_rows();
     cbh_.resize(n_ + p_ + m_);
     cbh_ << -sp_.c, sp_.b, sp_.h;
+    e_.setZero(m_);
+    cones_->add_identity(e_, 1.0);
+    best_score_ = std::numeric_limits<double>::infinity();
+    stalled_ = 0;
+    is_polished_ = false;
   }
 
-  IpmResult run();
-
- private:
+  IpmResult& iterate();
   bool initialize();
   // refine = false for the predictor: it only sets sigma and the second-order term.
   bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine = true);
   double max_step(const Direction& d) const;
-  IpmResult finish(IpmStatus status, const Variables& v, int iterations);
+  IpmResult& finish(IpmStatus status, const Variables& v, int iterations);
   // Polishes v; true (r_ and polished_ then describe the polished point) when it meets the
   // tolerances.
   bool try_polish(const Variables& v, double feastol, double abstol, double reltol);
   // Numerical trouble or the iteration limit: like ECOS, accept the best iterate at the
   // reduced-accuracy tolerances if it meets them (flagged), else report the failure.
-  IpmResult stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
+  IpmResult& stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
     if (st_.log) *st_.log << "stopped: " << where << "\n";
     v_ = best;
     residuals(v_, r_);
@@ -100,12 +125,12 @@ class Solver {
     // far more accurate x (the full form's stall: relative gap 1e-11, x only to 1e-5).
     if (verdict == IpmStatus::kOptimal &&
         try_polish(v_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate)) {
-      IpmResult res = finish(IpmStatus::kOptimal, polished_, iterations);
+      IpmResult& res = finish(IpmStatus::kOptimal, polished_, iterations);
       res.reduced_accuracy = classify(r_, st_.feastol, st_.abstol, st_.reltol) != IpmStatus::kOptimal;
       if (res.reduced_accuracy) explain_reduced_accuracy(polished_, res);
       return res;
     }
-    IpmResult res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
+    IpmResult& res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
     res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
     if (res.reduced_accuracy) explain_reduced_accuracy(v_, res);
     return res;
@@ -113,7 +138,7 @@ class Solver {
   // Which strict tolerance the accepted point misses, and whether double precision could
   // have met it at all (residual_floors).
   void explain_reduced_accuracy(const Variables& v, IpmResult& res) {
-    const ResidualFloors f = residual_floors(sp_, *gmat_, op_, eq_, v);
+    const ResidualFloors f = residual_floors(sp_, gmat_, *op_, eq_, v);
     res.primal_residual_floor = f.primal;
     res.dual_residual_floor = f.dual;
     char buf[200];
@@ -136,7 +161,7 @@ class Solver {
     }
     res.note = why;
   }
-  IpmResult trouble(const char* where, int iterations) {
+  IpmResult& trouble(const char* where, int iterations) {
     return stop_early(IpmStatus::kNumericalTrouble, where, last_good_, iterations);
   }
   Variables last_good_;
@@ -148,18 +173,19 @@ class Solver {
   // Residuals and stopping measures, timed.
   void residuals(const Variables& v, Residuals& r) {
     PhaseScope phase(clock_, IpmPhase::kResiduals);
-    compute_residuals(sp_, *gmat_, op_, eq_, v, r);
+    compute_residuals(sp_, gmat_, *op_, eq_, v, r);
   }
 
-  const ConicProblem& op_;
+  const ConicProblem* op_ = nullptr;
   IpmSettings st_;
-  IpmClock* clock_;
+  IpmClock* clock_ = nullptr;
   ConicProblem sp_;
   Equilibration eq_;
   std::unique_ptr<ConeProduct> cones_;
-  std::unique_ptr<ConstraintMatrix> gmat_;
-  std::unique_ptr<KktSystem> kkt_;
+  ConstraintMatrix gmat_;
+  KktSystem kkt_;
   std::unique_ptr<Polisher> polisher_;
+  IpmResult result_;
   Variables polished_;
   Residuals polished_r_;
   bool is_polished_ = false;
@@ -169,8 +195,9 @@ class Solver {
   Residuals r_;
   NtScaling w_;
   Eigen::VectorXd lambda_, x1_;  // x1_ = K^{-1} [-c; b; h]
-  // Per-iteration buffers, sized once: on the compressed form (14 cone rows) allocation,
-  // not arithmetic, was a tenth of a solve.
+  Eigen::VectorXd e_;            // the identity of K
+  // Per-iteration buffers, sized once (and kept between solves of a workspace): on the
+  // compressed form (14 cone rows) allocation, not arithmetic, was a tenth of a solve.
   Eigen::VectorXd trial_s_, trial_z_, bs_aff_, ll_, corr_, rc_, bs_, ds_, wbs_, rhs_, sol_;
   Direction aff_, cor_;
   double denom_ = 0.0;           // kappa/tau + ||W z1||^2, minus the kappa/tau part
@@ -178,17 +205,21 @@ class Solver {
 
 bool Solver::initialize() {
   v_.resize(n_, p_, m_);
-  kkt_->set_full_refinement(false);  // a heuristic start: the reduced system's accuracy will do
-  if (!kkt_->factor(cones_->identity_scaling())) return false;
-  Eigen::VectorXd rhs(n_ + p_ + m_), sol;
+  kkt_.set_full_refinement(false);  // a heuristic start: the reduced system's accuracy will do
+  cones_->identity_scaling(w_);
+  if (!kkt_.factor(w_)) return false;
+  Eigen::VectorXd& rhs = rhs_;
+  Eigen::VectorXd& sol = sol_;
+  rhs.resize(n_ + p_ + m_);
   // Primal start: min ||G x - h||^2 s.t. A x = b, s = h - G x shifted into K.
   rhs << Eigen::VectorXd::Zero(n_), sp_.b, sp_.h;
-  if (!kkt_->solve(rhs, sol)) return false;
+  if (!kkt_.solve(rhs, sol)) return false;
   v_.x = sol.head(n_);
   v_.s = -sol.tail(m_);
   // Dual start: min ||z||^2 s.t. A^T y + G^T z + c = 0, shifted into K.
-  rhs << -sp_.c, Eigen::VectorXd::Zero(p_), Eigen::VectorXd::Zero(m_);
-  if (!kkt_->solve(rhs, sol)) return false;
+  rhs.head(n_) = -sp_.c;
+  rhs.tail(p_ + m_).setZero();
+  if (!kkt_.solve(rhs, sol)) return false;
   v_.y = sol.segment(n_, p_);
   v_.z = sol.tail(m_);
   if (m_ > 0) {
@@ -214,7 +245,7 @@ bool Solver::direction(double sigma, const Eigen::VectorXd& bs, double rk, Direc
   Eigen::VectorXd& sol = sol_;
   rhs.resize(n_ + p_ + m_);
   rhs << f * r_.rx, -f * r_.ry, -f * r_.rz - wbs;
-  if (!kkt_->solve(rhs, sol, refine)) return false;
+  if (!kkt_.solve(rhs, sol, refine)) return false;
   const double tau = v_.tau, kappa = v_.kappa;
   const double den = kappa / tau + denom_;
   d.dtau = (f * r_.rtau + rk / tau + cbh_.tail(p_ + m_).dot(sol.tail(p_ + m_)) + sp_.c.dot(sol.head(n_))) / den;
@@ -242,10 +273,13 @@ double Solver::max_step(const Direction& d) const {
   return a;
 }
 
-IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
-  IpmResult res;
+IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) {
+  IpmResult& res = result_;  // assigned in place: same sizes, same buffers as the last solve
   res.status = status;
   res.iterations = iterations;
+  res.reduced_accuracy = false;
+  res.note.clear();
+  res.primal_residual_floor = res.dual_residual_floor = 0.0;
   double scale = v.tau;
   double yz_scale = v.tau;
   if (status == IpmStatus::kPrimalInfeasible) {
@@ -256,28 +290,38 @@ IpmResult Solver::finish(IpmStatus status, const Variables& v, int iterations) {
     yz_scale = std::numeric_limits<double>::infinity();
   }
   auto safe = [](double s) { return std::isfinite(s) && s > 0.0; };
-  res.x = safe(scale) ? Eigen::VectorXd(eq_.col.cwiseProduct(v.x) / scale) : Eigen::VectorXd::Zero(n_);
-  res.s = safe(scale) ? Eigen::VectorXd(v.s.cwiseQuotient(eq_.row_cone) / scale) : Eigen::VectorXd::Zero(m_);
-  res.y = safe(yz_scale) ? Eigen::VectorXd(eq_.row_eq.cwiseProduct(v.y) / yz_scale) : Eigen::VectorXd::Zero(p_);
-  res.z = safe(yz_scale) ? Eigen::VectorXd(eq_.row_cone.cwiseProduct(v.z) / yz_scale) : Eigen::VectorXd::Zero(m_);
+  if (safe(scale)) {
+    res.x = eq_.col.cwiseProduct(v.x) / scale;
+    res.s = v.s.cwiseQuotient(eq_.row_cone) / scale;
+  } else {
+    res.x.setZero(n_);
+    res.s.setZero(m_);
+  }
+  if (safe(yz_scale)) {
+    res.y = eq_.row_eq.cwiseProduct(v.y) / yz_scale;
+    res.z = eq_.row_cone.cwiseProduct(v.z) / yz_scale;
+  } else {
+    res.y.setZero(p_);
+    res.z.setZero(m_);
+  }
   res.primal_objective = r_.primal_objective;
   res.dual_objective = r_.dual_objective;
   res.primal_residual = r_.primal_residual;
   res.dual_residual = r_.dual_residual;
   res.gap = r_.gap;
   res.relative_gap = r_.relative_gap;
-  res.kkt_factor_nonzeros = kkt_->factor_nonzeros();
+  res.kkt_factor_nonzeros = kkt_.factor_nonzeros();
   res.polished = is_polished_;
   res.polish_newton_steps = is_polished_ ? polisher_->last_newton_steps() : 0;
   return res;
 }
 
 bool Solver::try_polish(const Variables& v, double feastol, double abstol, double reltol) {
-  if (!polisher_) return false;
+  if (!st_.polish || !polisher_) return false;  // (a workspace keeps the polisher of earlier solves)
   PhaseScope phase(clock_, IpmPhase::kPolish);
   if (clock_) ++clock_->timings().polish_attempts;
   if (!polisher_->polish(v, polished_)) return false;
-  compute_residuals(sp_, *gmat_, op_, eq_, polished_, polished_r_);
+  compute_residuals(sp_, gmat_, *op_, eq_, polished_, polished_r_);
   if (classify(polished_r_, feastol, abstol, reltol) != IpmStatus::kOptimal) return false;
   if (st_.log) {
     char buf[160];
@@ -295,8 +339,8 @@ void Solver::log_header() const {
   if (!st_.log) return;
   char buf[256];
   std::snprintf(buf, sizeof buf, "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), reduced KKT %d x %d, L nnz %ld\n",
-                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_->reduced_size(),
-                kkt_->reduced_size(), kkt_->factor_nonzeros());
+                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_.reduced_size(),
+                kkt_.reduced_size(), kkt_.factor_nonzeros());
   *st_.log << buf;
   *st_.log << "iter      pcost        dcost       gap     pres     dres     k/t       mu     step   sigma  ref\n";
 }
@@ -306,11 +350,11 @@ void Solver::log_iteration(int k, const Residuals& r, double mu, double step, do
   char buf[256];
   std::snprintf(buf, sizeof buf, "%3d %+.5e %+.5e %8.1e %8.1e %8.1e %8.1e %8.1e %7.4f %7.4f %3d\n", k,
                 r.primal_objective, r.dual_objective, r.gap, r.primal_residual, r.dual_residual,
-                v_.kappa / v_.tau, mu, step, sigma, kkt_->last_refinement_steps());
+                v_.kappa / v_.tau, mu, step, sigma, kkt_.last_refinement_steps());
   *st_.log << buf;
 }
 
-IpmResult Solver::run() {
+IpmResult& Solver::iterate() {
   log_header();
   if (!initialize()) {
     residuals(v_, r_);
@@ -318,7 +362,6 @@ IpmResult Solver::run() {
   }
   last_good_ = v_;
   double step = 0.0, sigma = 0.0;
-  const Eigen::VectorXd e = cones_->identity();
   for (int k = 0;; ++k) {
     residuals(v_, r_);
     const double mu = (v_.s.dot(v_.z) + v_.tau * v_.kappa) / (cones_->degree() + 1);
@@ -346,14 +389,14 @@ IpmResult Solver::run() {
       return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
-    kkt_->set_full_refinement(best_score_ < st_.full_refinement_from);
+    kkt_.set_full_refinement(best_score_ < st_.full_refinement_from);
 
     {
       PhaseScope phase(clock_, IpmPhase::kCones);
       if (!cones_->compute_scaling(v_.s, v_.z, w_, lambda_)) return trouble("scaling", k);
     }
-    if (!kkt_->factor(w_)) return trouble("factor", k);
-    if (!kkt_->solve(cbh_, x1_)) return trouble("solve", k);
+    if (!kkt_.factor(w_)) return trouble("factor", k);
+    if (!kkt_.solve(cbh_, x1_)) return trouble("solve", k);
     // -[c; b; h]^T x1 = ||W z1||^2 > 0 (exactly, for the unregularized system).
     denom_ = -(sp_.c.dot(x1_.head(n_)) + cbh_.tail(p_ + m_).dot(x1_.tail(p_ + m_)));
     // Predictor (affine scaling): sigma = 0, target lambda o lambda -> 0.
@@ -368,7 +411,7 @@ IpmResult Solver::run() {
       PhaseScope phase(clock_, IpmPhase::kCones);
       cones_->jordan_product(lambda_, lambda_, ll_);
       cones_->jordan_product(aff.ds_scaled, aff.dz_scaled, corr_);
-      rc_ = -ll_ + sigma * mu * e - corr_;
+      rc_ = -ll_ + sigma * mu * e_ - corr_;
       cones_->jordan_divide(lambda_, rc_, bs_);
     }
     const double rk = -v_.kappa * v_.tau + sigma * mu - aff.dkappa * aff.dtau;
@@ -411,18 +454,40 @@ std::string status_text(const IpmResult& r) {
   return s;
 }
 
-IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
+struct IpmWorkspace::State {
+  Solver solver;
+};
+
+IpmWorkspace::IpmWorkspace() : state_(std::make_unique<State>()) {}
+IpmWorkspace::~IpmWorkspace() = default;
+IpmWorkspace::IpmWorkspace(IpmWorkspace&&) noexcept = default;
+IpmWorkspace& IpmWorkspace::operator=(IpmWorkspace&&) noexcept = default;
+
+namespace {
+
+IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, Solver& solver) {
   IpmTimings timings;
   IpmClock clock(timings);
   {
     PhaseScope phase(&clock, IpmPhase::kValidation);
     validate(problem);
   }
-  IpmResult r = Solver(problem, settings, &clock).run();
+  IpmResult& r = solver.run(problem, settings, &clock);
   clock.enter(IpmPhase::kOther);  // charges the time since the last switch
   r.timings = timings;
   r.seconds = timings.total_seconds();
   return r;
+}
+
+}  // namespace
+
+const IpmResult& solve_conic(const ConicProblem& problem, const IpmSettings& settings, IpmWorkspace& workspace) {
+  return solve_with(problem, settings, workspace.state_->solver);
+}
+
+IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
+  Solver solver;
+  return std::move(solve_with(problem, settings, solver));
 }
 
 }  // namespace bivo::solvers::conic

@@ -11,6 +11,7 @@
 // ends with kNumericalTrouble and the last finite iterate.
 #include <iosfwd>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
@@ -72,6 +73,28 @@ struct IpmResult {
 
 // Validates the problem (bivo::Error on bad input), then solves it.
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings = {});
+
+// The solver's buffers (the scaled copy of G, the KKT system, the iterates and every
+// per-iteration vector), kept from one solve to the next. A caller that solves problems of
+// one size again and again (a step backend, once per outer iteration) passes the same
+// workspace, so a solve neither allocates nor touches fresh memory: at n = 2e4 the page
+// faults on freshly allocated O(n) buffers were half the CPU time of a solve. Results are
+// identical to solve_conic without a workspace. Not for two threads at once.
+class IpmWorkspace {
+ public:
+  IpmWorkspace();
+  ~IpmWorkspace();
+  IpmWorkspace(IpmWorkspace&&) noexcept;
+  IpmWorkspace& operator=(IpmWorkspace&&) noexcept;
+  struct State;
+
+ private:
+  std::unique_ptr<State> state_;
+  friend const IpmResult& solve_conic(const ConicProblem&, const IpmSettings&, IpmWorkspace&);
+};
+
+// As above, in the workspace's buffers; the result lives in the workspace until its next solve.
+const IpmResult& solve_conic(const ConicProblem& problem, const IpmSettings& settings, IpmWorkspace& workspace);
 
 // The exit in words: "optimal", "optimal (reduced accuracy: ...)", "primal infeasible", ...
 std::string status_text(const IpmResult& result);

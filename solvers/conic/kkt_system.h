@@ -46,6 +46,11 @@ class KktSystem {
   // clock (may be null): set-up, factorizations, solves and refinement are timed on it.
   KktSystem(const SparseMatrix& A, const ConstraintMatrix& G, const ConeProduct& cones, KktSettings settings,
             IpmClock* clock = nullptr);
+  KktSystem() = default;  // set up later
+  // (Re)builds the pattern, ordering and symbolic factorization for this A, G and K, in the
+  // buffers of the last set-up (kkt_setup.cpp). A, G and cones must outlive the system.
+  void setup(const SparseMatrix& A, const ConstraintMatrix& G, const ConeProduct& cones, KktSettings settings,
+             IpmClock* clock = nullptr);
 
   // Numeric factorization for scaling W; false if LDL meets a non-finite pivot.
   bool factor(const NtScaling& w);
@@ -77,12 +82,12 @@ class KktSystem {
   double z_pivot(double d);  // d, or dynamic_regularization when d is below the threshold
   int slot(int row, int col) const;  // position of (row, col) in the reduced CSC
 
-  const SparseMatrix& A_;
-  const ConstraintMatrix& G_;
-  const ConeProduct& cones_;
+  const SparseMatrix* A_ = nullptr;
+  const ConstraintMatrix* G_ = nullptr;
+  const ConeProduct* cones_ = nullptr;
   KktSettings settings_;
-  IpmClock* clock_;
-  int n_, p_, m_, nsoc_, R_;
+  IpmClock* clock_ = nullptr;
+  int n_ = 0, p_ = 0, m_ = 0, nsoc_ = 0, R_ = 0;
   NtScaling w_;
   std::vector<int> cone_of_row_;  // -1 on the orthant
 

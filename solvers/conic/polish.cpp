@@ -40,21 +40,22 @@ void Polisher::set_up() {
 }
 
 // The larger member of each complementary eigen-pair survives (see polish.h).
-void Polisher::classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z) {
+void Polisher::classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z, double s_scale, double z_scale) {
   const int l = cones_.spec().nonnegative;
   orthant_kind_.assign(l, Kind::kInactive);
   for (int i = 0; i < l; ++i) {
-    if (s[i] < z[i]) orthant_kind_[i] = Kind::kApex;
+    if (s[i] / s_scale < z[i] / z_scale) orthant_kind_[i] = Kind::kApex;
   }
   soc_kind_.assign(cones_.soc_count(), Kind::kInactive);
   for (int k = 0; k < cones_.soc_count(); ++k) {
     const int o = cones_.soc_offset(k), d = cones_.spec().soc[k];
-    const double ns1 = d > 1 ? s.segment(o + 1, d - 1).norm() : 0.0;
-    const double nz1 = d > 1 ? z.segment(o + 1, d - 1).norm() : 0.0;
+    const double ns1 = d > 1 ? s.segment(o + 1, d - 1).norm() / s_scale : 0.0;
+    const double nz1 = d > 1 ? z.segment(o + 1, d - 1).norm() / z_scale : 0.0;
+    const double s0 = s[o] / s_scale, z0 = z[o] / z_scale;
     Kind kind = Kind::kInactive;
-    if (s[o] + ns1 < z[o] - nz1) {
+    if (s0 + ns1 < z0 - nz1) {
       kind = Kind::kApex;  // both eigenvalues of s lose: s = 0
-    } else if (s[o] - ns1 < z[o] + nz1) {
+    } else if (s0 - ns1 < z0 + nz1) {
       kind = d > 1 ? Kind::kBoundary : Kind::kApex;  // a cone of dimension 1 is an orthant entry
     }
     soc_kind_[k] = kind;
@@ -102,7 +103,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   // guess compares them relative to their own largest entries, if that guess differs.
   const double s_scale = s0_.lpNorm<Eigen::Infinity>(), z_scale = z0_.lpNorm<Eigen::Infinity>();
   if (s_scale > 0.0 && z_scale > 0.0) {
-    classify(s0_ / s_scale, z0_ / z_scale);
+    classify(s0_, z0_, s_scale, z_scale);
     if ((orthant != orthant_kind_ || soc != soc_kind_) && solve_guess(v, s0_, z0_, out)) return true;
   }
   // With few second-order cones, the guesses one cone away from the first (boundary <->

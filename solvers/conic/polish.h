@@ -63,13 +63,17 @@ class Polisher {
   // singular system, Newton does not converge, or the result leaves K (wrong sign of a
   // multiplier: the guess was wrong).
   bool polish(const Variables& v, Variables& out);
+  // The problem's data changed (same objects, new values: a solver workspace's next solve):
+  // the per-problem forms are formed again on first use.
+  void reset() { ready_ = false; }
   int last_newton_steps() const { return newton_steps_; }  // both stages
   int last_true_steps() const { return true_steps_; }       // the second stage's
 
  private:
   enum class Kind { kInactive, kBoundary, kApex };
   void set_up();  // grams, head rows, u_k and eta_k, on first use
-  void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z);
+  // s / s_scale against z / z_scale.
+  void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z, double s_scale = 1.0, double z_scale = 1.0);
   void collect();  // boundary_ and apex_rows_ from the kinds
   // Newton on the current guess, from the iterate (x, y)/tau and s0, z0 = (s, z)/tau.
   bool solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out);

@@ -50,10 +50,17 @@ void validate(const ConicProblem& p) {
     throw Error("conic problem: A has " + std::to_string(p.A.rows()) + " rows but b has " +
                 std::to_string(p.b.size()) + " entries");
   }
-  if (p.G.cols() != n && !(p.G.rows() == 0 && p.G.cols() == 0)) {
+  if (p.has_dense_G()) {
+    if (p.G.rows() != 0 || p.G.cols() != 0) throw Error("conic problem: both a sparse and a dense G");
+    if (p.dense_G.cols() != n || p.dense_G.rows() != p.h.size()) {
+      throw Error("conic problem: dense G is " + std::to_string(p.dense_G.rows()) + " x " +
+                  std::to_string(p.dense_G.cols()) + " but c has " + std::to_string(n) + " entries and h " +
+                  std::to_string(p.h.size()));
+    }
+  } else if (p.G.cols() != n && !(p.G.rows() == 0 && p.G.cols() == 0)) {
     throw Error("conic problem: G is " + dims(p.G) + " but c has " + std::to_string(n) + " entries");
   }
-  if (p.G.rows() != p.h.size()) {
+  if (!p.has_dense_G() && p.G.rows() != p.h.size()) {
     throw Error("conic problem: G has " + std::to_string(p.G.rows()) + " rows but h has " +
                 std::to_string(p.h.size()) + " entries");
   }
@@ -77,6 +84,15 @@ void validate(const ConicProblem& p) {
   check_finite(p.h, "h");
   check_finite(p.A, "A");
   check_finite(p.G, "G");
+  if (p.has_dense_G() && !kernels::all_finite(p.dense_G.size(), p.dense_G.data())) {
+    for (Eigen::Index j = 0; j < p.dense_G.cols(); ++j) {
+      for (Eigen::Index i = 0; i < p.dense_G.rows(); ++i) {
+        if (!std::isfinite(p.dense_G(i, j))) {
+          throw Error("conic problem: G(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite");
+        }
+      }
+    }
+  }
 }
 
 Equilibration identity_equilibration(const ConicProblem& p) {
@@ -85,23 +101,25 @@ Equilibration identity_equilibration(const ConicProblem& p) {
 }
 
 Equilibration equilibration_factors(const ConicProblem& p, int passes) {
-  Equilibration e = identity_equilibration(p);
-  if (passes <= 0) return e;
+  Equilibration e;
+  equilibration_factors(p, passes, e);
+  return e;
+}
+
+void equilibration_factors(const ConicProblem& p, int passes, Equilibration& e) {
   const int n = p.num_variables(), me = p.num_equalities(), l = p.cones.nonnegative;
-  const ConeProduct cones(p.cones);
-  // Block of each cone row: l orthant rows, then one block per second-order cone; the
-  // equality rows come first in the block numbering.
-  std::vector<int> block_of_row(p.num_cone_rows());
-  for (int i = 0; i < l; ++i) block_of_row[i] = me + i;
-  for (int k = 0; k < cones.soc_count(); ++k) {
-    for (int i = 0; i < p.cones.soc[k]; ++i) block_of_row[cones.soc_offset(k) + i] = me + l + k;
-  }
-  const int nb = me + l + cones.soc_count();
+  const int nsoc = static_cast<int>(p.cones.soc.size());
+  e.col.setOnes(n);
+  e.row_eq.setOnes(me);
+  e.row_cone.setOnes(p.num_cone_rows());
+  if (passes <= 0) return;
+  // Blocks: the equality rows, then one per orthant row, then one per second-order cone.
+  // soc_end[k]: one past cone k's last row (the cones' rows are contiguous, in order).
+  std::vector<int> soc_end(nsoc);
+  for (int k = 0, end = l; k < nsoc; ++k) soc_end[k] = end += p.cones.soc[k];
+  const int nb = me + l + nsoc;
   // Block maxima by columns (a cone's rows are contiguous and sorted within a column of G,
   // so a block is one run of entries; its max is a tight loop over the values).
-  std::vector<int> block_end(nb - me);  // per cone block: one past its last row
-  for (int i = 0; i < l; ++i) block_end[i] = i + 1;
-  for (int k = 0; k < cones.soc_count(); ++k) block_end[l + k] = cones.soc_offset(k) + p.cones.soc[k];
   std::vector<int> start(n + 1, 0), block;
   std::vector<double> bmax;
   for (int j = 0; j < n; ++j) {
@@ -116,12 +134,32 @@ Equilibration equilibration_factors(const ConicProblem& p, int passes) {
       const double* val = p.G.valuePtr();
       const int begin = p.G.outerIndexPtr()[j];
       const int end = p.G.isCompressed() ? p.G.outerIndexPtr()[j + 1] : begin + p.G.innerNonZeroPtr()[j];
-      for (int e = begin; e < end;) {
-        const int b = block_of_row[inner[e]], last = block_end[b - me];
-        const int run_end = static_cast<int>(std::lower_bound(inner + e, inner + end, last) - inner);
+      for (int q = begin; q < end;) {
+        const int row = inner[q];
+        int b, last;
+        if (row < l) {
+          b = me + row;
+          last = row + 1;
+        } else {
+          const int k = static_cast<int>(std::upper_bound(soc_end.begin(), soc_end.end(), row) - soc_end.begin());
+          b = me + l + k;
+          last = soc_end[k];
+        }
+        const int run_end = static_cast<int>(std::lower_bound(inner + q, inner + end, last) - inner);
         block.push_back(b);
-        bmax.push_back(kernels::max_abs(run_end - e, val + e));
-        e = run_end;
+        bmax.push_back(kernels::max_abs(run_end - q, val + q));
+        q = run_end;
+      }
+    }
+    if (p.has_dense_G()) {  // one run per block of the column
+      const double* col = p.dense_G.col(j).data();
+      for (int i = 0; i < l; ++i) {
+        block.push_back(me + i);
+        bmax.push_back(std::abs(col[i]));
+      }
+      for (int k = 0, begin = l; k < nsoc; begin = soc_end[k++]) {
+        block.push_back(me + l + k);
+        bmax.push_back(kernels::max_abs(soc_end[k] - begin, col + begin));
       }
     }
     start[j + 1] = static_cast<int>(block.size());
@@ -156,8 +194,10 @@ Equilibration equilibration_factors(const ConicProblem& p, int passes) {
   }
   for (int j = 0; j < n; ++j) e.col[j] = col[j];
   for (int i = 0; i < me; ++i) e.row_eq[i] = row[i];
-  for (int i = 0; i < p.num_cone_rows(); ++i) e.row_cone[i] = row[block_of_row[i]];
-  return e;
+  for (int i = 0; i < l; ++i) e.row_cone[i] = row[me + i];
+  for (int k = 0, begin = l; k < nsoc; begin = soc_end[k++]) {
+    e.row_cone.segment(begin, soc_end[k] - begin).setConstant(row[me + l + k]);
+  }
 }
 
 void scale_vectors_and_equalities(ConicProblem& p, const Equilibration& e) {
@@ -172,6 +212,7 @@ void scale_vectors_and_equalities(ConicProblem& p, const Equilibration& e) {
 Equilibration equilibrate(ConicProblem& p, int passes) {
   const Equilibration e = equilibration_factors(p, passes);
   scale_vectors_and_equalities(p, e);
+  if (p.has_dense_G()) p.dense_G = e.row_cone.asDiagonal() * p.dense_G * e.col.asDiagonal();
   for (int j = 0; j < p.G.outerSize(); ++j) {
     for (SparseMatrix::InnerIterator it(p.G, j); it; ++it) it.valueRef() *= e.row_cone[it.row()] * e.col[j];
   }

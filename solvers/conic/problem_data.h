@@ -18,12 +18,17 @@ struct ConicProblem {
   SparseMatrix A;   // p x n (p may be 0)
   Eigen::VectorXd b;
   SparseMatrix G;   // m x n, m = cones.dim()
+  // Or G as a dense m x n matrix (then G stays 0 x 0): for a G with few columns that are
+  // mostly full, as the paper's full form (7 columns, n+1 rows of 6 Jacobian entries), built
+  // straight into the layout the solver multiplies with (constraint_matrix.h).
+  Eigen::MatrixXd dense_G;
   Eigen::VectorXd h;
   ConeSpec cones;
 
   int num_variables() const { return static_cast<int>(c.size()); }
   int num_equalities() const { return static_cast<int>(b.size()); }
   int num_cone_rows() const { return static_cast<int>(h.size()); }
+  bool has_dense_G() const { return dense_G.size() > 0; }
 };
 
 // Dimensions agree, cone sizes sum to the rows of G, every entry finite. Throws bivo::Error
@@ -44,6 +49,7 @@ struct Equilibration {
 // block maxima of [A; G] (one row per equality, per orthant row and per second-order cone),
 // formed in one sweep over the data; for the paper's SOCP that is a 2 x 7 matrix.
 Equilibration equilibration_factors(const ConicProblem& problem, int passes);
+void equilibration_factors(const ConicProblem& problem, int passes, Equilibration& out);  // into out's buffers
 // Scales c, b, h and A in place (G is scaled where its copy is made: ConstraintMatrix).
 void scale_vectors_and_equalities(ConicProblem& problem, const Equilibration& e);
 // Both, and G scaled in place too.

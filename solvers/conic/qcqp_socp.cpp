@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/conic/dense_kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::solvers::conic {
@@ -25,13 +26,17 @@ void check_data(const ResidualData& f, const char* which, int dim) {
                 std::to_string(f.J.cols()) + ", expected " + std::to_string(n) + " x " + std::to_string(dim) +
                 " (full residuals with Jacobians requested?)");
   }
-  for (Eigen::Index i = 0; i < n; ++i) {
+  // The common case in vectorized passes; the loop names the first bad entry.
+  const bool ok = kernels::all_finite(n, f.w.data()) && kernels::all_finite(n, f.r.data()) && (n == 0 || f.w.minCoeff() >= 0.0);
+  for (Eigen::Index i = 0; i < n && !ok; ++i) {
     if (!(f.w[i] >= 0.0) || !std::isfinite(f.w[i]) || !std::isfinite(f.r[i])) {
       throw Error(std::string("qcqp socp: ") + which + " residual " + std::to_string(i) + " has r = " +
                   std::to_string(f.r[i]) + ", w = " + std::to_string(f.w[i]));
     }
   }
-  if (!f.J.allFinite()) throw Error(std::string("qcqp socp: ") + which + " Jacobian has non-finite entries");
+  if (!kernels::all_finite(f.J.size(), f.J.data())) {
+    throw Error(std::string("qcqp socp: ") + which + " Jacobian has non-finite entries");
+  }
 }
 
 void check_epsilon(double epsilon) {
@@ -125,55 +130,44 @@ ConeFactor factor_from_residuals(const ResidualData& data) {
 }
 
 ConicProblem full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsilon) {
+  ConicProblem p;
+  full_qcqp_socp(f1, f2, epsilon, p);
+  return p;
+}
+
+void full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsilon, ConicProblem& p) {
   const int dim = static_cast<int>(f1.J.cols());
   check_data(f1, "objective 1", dim);
   check_data(f2, "objective 2", dim);
   check_epsilon(epsilon);
   const int n1 = static_cast<int>(f1.r.size()), n2 = static_cast<int>(f2.r.size());
   const int rows = n1 + n2 + 2;
-  ConicProblem p;
-  p.c = Eigen::VectorXd::Zero(dim + 1);
+  p.c.setZero(dim + 1);
   p.c[0] = 1.0;
   p.A.resize(0, dim + 1);
   p.b.resize(0);
+  p.cones.nonnegative = 0;
   p.cones.soc = {n1 + 1, n2 + 1};
+  p.G.resize(0, 0);
+  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2] is 7 mostly full columns: written
+  // dense, straight into the layout the IPM multiplies with (in a workspace, into the last
+  // step's buffers). Each block's column 1 holds W^{1/2} until it is the last one written.
+  p.dense_G.resize(rows, dim + 1);
+  p.dense_G.col(0).setZero();
+  p.dense_G(0, 0) = -1.0;
   p.h.resize(rows);
-  const Eigen::VectorXd sw1 = f1.w.cwiseSqrt(), sw2 = f2.w.cwiseSqrt();
   p.h[0] = 0.0;
-  p.h.segment(1, n1) = sw1.cwiseProduct(f1.r);
   p.h[n1 + 1] = std::sqrt(epsilon);
-  p.h.segment(n1 + 2, n2) = sw2.cwiseProduct(f2.r);
-  // G = [-1 0; 0 -W1^{1/2} J1; 0 0; 0 -W2^{1/2} J2], written straight into its compressed
-  // column arrays (exact zeros of invalid terms are not stored): per-entry inserts cost as
-  // much as a few IPM iterations at n = 3e5.
-  std::vector<int> outer(dim + 2, 0), inner;
-  std::vector<double> values;
-  inner.reserve(1 + static_cast<std::size_t>(dim) * (n1 + n2));
-  values.reserve(inner.capacity());
-  inner.push_back(0);
-  values.push_back(-1.0);
-  outer[1] = 1;
-  for (int j = 0; j < dim; ++j) {
-    auto append = [&](const Eigen::VectorXd& sw, const Eigen::MatrixXd& J, int row0, int n) {
-      const double* col = J.col(j).data();
-      for (int i = 0; i < n; ++i) {
-        const double v = sw[i] * col[i];
-        if (v != 0.0) {
-          inner.push_back(row0 + i);
-          values.push_back(-v);
-        }
-      }
-    };
-    append(sw1, f1.J, 1, n1);
-    append(sw2, f2.J, n1 + 2, n2);
-    outer[j + 2] = static_cast<int>(inner.size());
-  }
-  p.G.resize(rows, dim + 1);
-  p.G.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), p.G.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), p.G.innerIndexPtr());
-  std::copy(values.begin(), values.end(), p.G.valuePtr());
-  return p;
+  auto block = [&](const ResidualData& f, int row0, int n) {
+    auto sw = p.dense_G.col(1).segment(row0, n);
+    sw = f.w.cwiseSqrt();
+    p.h.segment(row0, n) = sw.cwiseProduct(f.r);
+    for (int j = dim - 1; j >= 0; --j) p.dense_G.col(j + 1).segment(row0, n) = -sw.cwiseProduct(f.J.col(j));
+  };
+  block(f1, 1, n1);
+  block(f2, n1 + 2, n2);
+  p.dense_G.row(0).tail(dim).setZero();
+  p.dense_G.row(n1 + 1).tail(dim).setZero();
 }
 
 ConicProblem compressed_qcqp_socp(const ConeFactor& f1, const ConeFactor& f2, double epsilon) {
@@ -200,14 +194,25 @@ ConicProblem compressed_qcqp_socp(const ConeFactor& f1, const ConeFactor& f2, do
 
 QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
                              double epsilon, const IpmSettings& settings) {
+  FullFormWorkspace workspace;
+  return solve_qcqp_full(f1, f2, m2, epsilon, settings, workspace);
+}
+
+QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
+                             double epsilon, const IpmSettings& settings, FullFormWorkspace& workspace) {
   check_epsilon(epsilon);
   const int dim = static_cast<int>(f1.J.cols());
   if (epsilon <= factor_from_model(m2).floor) return infeasible_step(m2);
-  const ConicProblem p = full_qcqp_socp(f1, f2, epsilon);
-  const IpmResult r = solve_conic(p, settings);
+  full_qcqp_socp(f1, f2, epsilon, workspace.socp);
+  const IpmResult& r = solve_conic(workspace.socp, settings, workspace.ipm);
+  // ||W1^{1/2}(J1 d + r1)|| row by row (no O(n) temporaries).
   const Eigen::VectorXd d = r.x.tail(dim);
-  const double e1 = (f1.w.cwiseSqrt().cwiseProduct(f1.J * d + f1.r)).norm();
-  return read_solution(r, dim, static_cast<int>(f1.r.size()) + 1, e1, std::sqrt(epsilon), m2);
+  double e1 = 0.0;
+  for (Eigen::Index i = 0; i < f1.r.size(); ++i) {
+    const double ri = f1.J.row(i).dot(d) + f1.r[i];
+    e1 += f1.w[i] * ri * ri;
+  }
+  return read_solution(r, dim, static_cast<int>(f1.r.size()) + 1, std::sqrt(e1), std::sqrt(epsilon), m2);
 }
 
 QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2,

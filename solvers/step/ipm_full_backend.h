@@ -21,6 +21,7 @@ class IpmFullBackend final : public StepBackend {
 
  private:
   conic::IpmSettings settings_;
+  conic::FullFormWorkspace workspace_;  // kept between steps: no O(n) allocation per step
 };
 
 }  // namespace bivo::solvers
