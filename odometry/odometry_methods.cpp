@@ -132,4 +132,9 @@ double residual_lambda(Method method, const RgbdLinearizationStats& stats, const
   throw Error(std::string("method '") + to_string(method) + "' does not take lambda from the residuals");
 }
 
+JacobianKind method_jacobian(Method method, JacobianKind requested) {
+  if (requested != JacobianKind::kMethodDefault) return requested;
+  return method == Method::kJoint ? JacobianKind::kInverse : JacobianKind::kForward;
+}
+
 }  // namespace bivo::odometry

@@ -54,9 +54,11 @@ struct PolicyParameters {
   double eps_min = 3e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
   double eps_max = 1e-3;        // method bounded: per-unit-weight bound [m^2] on poor structure
   std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
-  double kappa = 1.0;           // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
-  double eps_ratio = 0.5;       // method noise-bounded: eps_bar / depth-residual level at x_I
-  double guard = 0.02;          // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
+  // scaled, noise-bounded: chosen by the sweep over all nine sequences of docs/odometry.md
+  // ("How the defaults were chosen": the smallest worst RPE ratio to single).
+  double kappa = 0.03;          // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
+  double eps_ratio = 0.8;       // method noise-bounded: eps_bar / depth-residual level at x_I
+  double guard = 168.0;         // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
 };
 
 double tykkala_lambda(const FrameStatistics& s);
@@ -76,6 +78,12 @@ std::optional<double> frame_lambda(Method method, const FrameStatistics& s, cons
 double method_lambda(Method method, const FrameStatistics& s, const PolicyParameters& p);
 
 struct RgbdLinearizationStats;
+enum class JacobianKind;  // rgbd_problem.h
+// The Jacobian kind a method uses when asked for "auto" (the tracker's default); any other
+// request is returned unchanged. joint: inverse (reference-side gradients, as the IROS 2013
+// tracker it reproduces, dvo_core, precomputes them per level); every other method: forward.
+// Chosen on all the data at hand (docs/odometry.md, "How the defaults were chosen").
+JacobianKind method_jacobian(Method method, JacobianKind requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p);

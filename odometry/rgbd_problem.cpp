@@ -55,7 +55,8 @@ JacobianKind parse_jacobian_kind(const std::string& name) {
   if (name == "forward") return JacobianKind::kForward;
   if (name == "inverse") return JacobianKind::kInverse;
   if (name == "esm") return JacobianKind::kEsm;
-  throw Error("unknown Jacobian kind '" + name + "' (valid: forward, inverse, esm)");
+  if (name == "auto") return JacobianKind::kMethodDefault;
+  throw Error("unknown Jacobian kind '" + name + "' (valid: forward, inverse, esm, auto)");
 }
 
 const char* to_string(JacobianKind kind) {
@@ -63,6 +64,7 @@ const char* to_string(JacobianKind kind) {
     case JacobianKind::kForward: return "forward";
     case JacobianKind::kInverse: return "inverse";
     case JacobianKind::kEsm: return "esm";
+    case JacobianKind::kMethodDefault: return "auto";
   }
   return "?";
 }
@@ -91,6 +93,9 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
                 std::to_string(options_.max_depth) + "] is empty or not positive");
   }
   if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
+  if (options_.jacobian == JacobianKind::kMethodDefault) {
+    throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
+  }
   gradients_ = options_.jacobian == JacobianKind::kForward   ? GradientSource::kCurrent
                : options_.jacobian == JacobianKind::kInverse ? GradientSource::kReference
                                                              : GradientSource::kAverage;

@@ -34,8 +34,10 @@ namespace bivo::odometry {
 
 // Which image gradients the Jacobians use: "forward" (the current image at y_i, exact),
 // "inverse" (the reference image at x_i, precomputed per level: inverse-compositional
-// style), "esm" (their mean, Benhimane and Malis 2004).
-enum class JacobianKind { kForward, kInverse, kEsm };
+// style), "esm" (their mean, Benhimane and Malis 2004). "auto" is the tracker's default:
+// each method's own choice (method_jacobian() in odometry_methods.h); a problem must be
+// given a resolved kind.
+enum class JacobianKind { kForward, kInverse, kEsm, kMethodDefault };
 JacobianKind parse_jacobian_kind(const std::string& name);  // unknown -> bivo::Error listing the valid ones
 const char* to_string(JacobianKind kind);
 

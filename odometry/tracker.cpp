@@ -213,6 +213,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   RgbdProblemOptions problem_options = options.problem;
   problem_options.depth_first = method == Method::kDepth;
   problem_options.joint_weights = method == Method::kJoint;
+  problem_options.jacobian = method_jacobian(method, problem_options.jacobian);
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
   problem_options.model_f2 = !one_objective;
@@ -262,6 +263,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       const NoiseBoundedLevel nb = solve_noise_bounded(problem, options.policy, run, solver_options, x);
       summary = nb.summary;
       lr.relaxed = nb.relaxed;
+      lr.guard_rise = nb.rise;
       if (nb.relaxed) {
         ++result.relaxed_levels;
         result.note += "level " + std::to_string(level) + " bound relaxed; ";
@@ -410,6 +412,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   RgbdProblemOptions po = options.problem;
   po.depth_first = parse_method(options.method) == Method::kDepth;
   po.joint_weights = parse_method(options.method) == Method::kJoint;
+  po.jacobian = method_jacobian(parse_method(options.method), po.jacobian);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }
 

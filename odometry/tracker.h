@@ -44,6 +44,14 @@ enum class InitialGuess { kIdentity, kConstantVelocity };
 InitialGuess parse_initial_guess(const std::string& name);  // "identity" | "constant-velocity"
 const char* to_string(InitialGuess guess);
 
+// The problem options a tracker starts from: RgbdProblemOptions' defaults with the Jacobian
+// kind left to the method ("auto").
+inline RgbdProblemOptions method_default_problem() {
+  RgbdProblemOptions o;
+  o.jacobian = JacobianKind::kMethodDefault;
+  return o;
+}
+
 struct TrackerOptions {
   std::string method = "weighted";  // single, depth, fixed, tykkala, weighted, bounded, joint, scaled, noise-bounded
   std::string backend;              // empty: default_backend(method) (gn / exact)
@@ -64,8 +72,9 @@ struct TrackerOptions {
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.
   bool evaluate_unused_objective = false;
   int min_valid_pixels = 200;       // fewer valid terms at a level: the level is skipped
-  RgbdProblemOptions problem;       // weights (tdist/huber/none, nu), depth range, occlusion,
-                                    // Jacobian kind, threads (also those of the pyramid)
+  RgbdProblemOptions problem = method_default_problem();  // weights (tdist/huber/none, nu), depth
+                                    // range, occlusion, Jacobian kind ("auto": the method's own,
+                                    // method_jacobian()), threads (also those of the pyramid)
   double max_association_dt = 0.02; // seconds
   std::optional<io::Intrinsics> intrinsics;  // override of the sequence-name preset
   int first_frame = 0;              // index of the first associated frame processed
@@ -90,6 +99,7 @@ struct LevelResult {
   double lambda = 0.0;      // weighted sum: lambda used (joint, scaled: at the last step)
   double correlation = 0.0; // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
   bool relaxed = false;     // noise-bounded: the guard relaxed the bound (x_I kept)
+  double guard_rise = 0.0;  // noise-bounded: (F_I(bounded) - F_I(x_I)) / sigma_I^2, the guard's statistic
   double epsilon = 0.0;     // bounded: epsilon bound on F_D at the last step
   double mu = 0.0;          // bounded: multiplier of the last step (+inf: infeasible)
   std::string termination;

@@ -269,3 +269,30 @@ TEST(RgbdKernels, EveryJacobianKindRecoversTheMotion) {
   EXPECT_EQ(parse_jacobian_kind("esm"), JacobianKind::kEsm);
   EXPECT_THROW(parse_jacobian_kind("newton"), Error);
 }
+
+// "auto" (the tracker's default) is each method's own kind: inverse for joint, forward for
+// the others; an explicit request wins; a problem refuses the unresolved name.
+TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
+  EXPECT_EQ(TrackerOptions{}.problem.jacobian, JacobianKind::kMethodDefault);
+  EXPECT_EQ(parse_jacobian_kind("auto"), JacobianKind::kMethodDefault);
+  EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kMethodDefault), JacobianKind::kInverse);
+  for (const Method m : {Method::kSingle, Method::kDepth, Method::kWeighted, Method::kBounded, Method::kScaled,
+                         Method::kNoiseBounded}) {
+    EXPECT_EQ(method_jacobian(m, JacobianKind::kMethodDefault), JacobianKind::kForward) << to_string(m);
+  }
+  EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kForward), JacobianKind::kForward);
+  EXPECT_EQ(method_jacobian(Method::kSingle, JacobianKind::kEsm), JacobianKind::kEsm);
+  RgbdProblemOptions unresolved;
+  unresolved.jacobian = JacobianKind::kMethodDefault;
+  EXPECT_THROW(RgbdOdometryProblem(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0], unresolved),
+               Error);
+  // The tracker resolves it: joint under "auto" is joint under "inverse", bit for bit.
+  TrackerOptions a;
+  a.levels = 3;
+  a.method = "joint";
+  TrackerOptions b = a;
+  b.problem.jacobian = JacobianKind::kInverse;
+  const PairResult ra = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), a);
+  const PairResult rb = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), b);
+  EXPECT_TRUE(ra.T_21.matrix() == rb.T_21.matrix());
+}

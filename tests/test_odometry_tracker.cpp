@@ -191,4 +191,16 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   EXPECT_LE(eg.rotation_deg, 1.05 * es.rotation_deg + 0.01);
   // Obeying the bound would have cost accuracy: the guard is what keeps the estimate.
   EXPECT_GT(eu.translation_m, es.translation_m + 2e-3);
+
+  // The same pair with the depth as measured: the bound costs the photometric data far less
+  // (the guard's statistic is what separates the two cases, not the threshold alone).
+  const PreparedFrame cur_unbiased = prepare_frame(load_rgbd_image(seq.frames[3], a.width, a.height), seq.intrinsics,
+                                                   o.levels);
+  TrackerOptions nb = o;
+  nb.method = "noise-bounded";
+  const PairResult unbiased = estimate_motion(ref, cur_unbiased, Eigen::Isometry3d::Identity(), nb);
+  std::printf("[ guard statistic at level 0 ] biased depth %.1f, measured depth %.1f (threshold %.1f)\n",
+              guarded.levels.back().guard_rise, unbiased.levels.back().guard_rise, o.policy.guard);
+  EXPECT_GT(guarded.levels.back().guard_rise, o.policy.guard);
+  EXPECT_LT(unbiased.levels.back().guard_rise, 0.25 * guarded.levels.back().guard_rise);
 }

@@ -80,7 +80,7 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
             "single/depth: also evaluate the objective not optimized, at each level's end (true/false)",
             d.evaluate_unused_objective,
             [](TrackerOptions& o, const bool& v) { o.evaluate_unused_objective = v; });
-  add<std::string>("--jacobian", "image gradients of the Jacobians: forward, inverse or esm",
+  add<std::string>("--jacobian", "image gradients of the Jacobians: forward, inverse, esm or auto (the method's default: inverse for joint, forward otherwise)",
                    odometry::to_string(d.problem.jacobian),
                    [](TrackerOptions& o, const std::string& v) { o.problem.jacobian = odometry::parse_jacobian_kind(v); });
   add<int>("--threads", "threads of the per-pixel passes and the pyramid (results do not depend on it)",
