@@ -55,9 +55,16 @@ ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth
   for (float z : D.data) n += usable(z) ? 1 : 0;
   t.count = n;
   const std::size_t padded = padded_terms(n);
-  for (auto* v : {&t.x, &t.y, &t.z, &t.intensity}) v->assign(padded, 0.0f);
+  // Every entry below n is written by the loop; the padding is zeroed here.
+  for (auto* v : {&t.x, &t.y, &t.z, &t.intensity}) {
+    v->reset(padded);
+    v->fill_from(n, 0.0f);
+  }
   if (with_gradients) {
-    for (auto* v : {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v}) v->assign(padded, 0.0f);
+    for (auto* v : {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v}) {
+      v->reset(padded);
+      v->fill_from(n, 0.0f);
+    }
   }
   const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
   std::size_t k = 0;
