@@ -8,8 +8,8 @@
 //
 // The entries of a new array are NOT initialized (a reused block holds whatever floats its
 // previous owner wrote); callers write before they read, and zero their padding themselves.
-// The pool keeps at most kMaxPooledBlocks blocks per thread (the smallest go first), i.e.
-// about one frame pair's worth of every level.
+// The pool keeps at most kMaxPooledBlocks blocks per thread (the smallest go first): one
+// pair's problems at four levels (12 blocks each) and a few frames' interleaved levels.
 #include <cstddef>
 #include <memory>
 
@@ -17,7 +17,7 @@ namespace bivo::odometry {
 
 class PooledFloats {
  public:
-  static constexpr std::size_t kMaxPooledBlocks = 64;
+  static constexpr std::size_t kMaxPooledBlocks = 96;
 
   PooledFloats() = default;
   explicit PooledFloats(std::size_t n);
