@@ -28,7 +28,7 @@ namespace data = bivo::odometry;
 #endif
 #if __has_include("odometry/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
-#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads)
+#define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads, (o).finest_level)
 #else
 #define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels)
 #endif
@@ -106,8 +106,11 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
       PreparedFrame reference = BIVO_PREPARE(window[0], f->sequence.intrinsics, o);
       Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
       for (std::size_t k = 1; k < window.size(); ++k) {
+        // As in `bivo run`, a freshly decoded image goes in (moved by the API that takes it by
+        // value; the old API copies it inside prepare_frame, as the old `bivo run` did).
+        data::RgbdImage image = window[k];
         const double c0 = cpu_now(), w0 = wall_now();
-        PreparedFrame current = BIVO_PREPARE(window[k], f->sequence.intrinsics, o);
+        PreparedFrame current = BIVO_PREPARE(std::move(image), f->sequence.intrinsics, o);
         const PairResult r = estimate_motion(reference, current, velocity, o);
         const double seconds = wall ? wall_now() - w0 : cpu_now() - c0;
         per_pair.push_back(1000.0 * seconds);

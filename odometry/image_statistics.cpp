@@ -69,16 +69,34 @@ inline std::uint32_t ordered_bits(float f) {
   return (u & 0x80000000u) ? ~u : (u | 0x80000000u);
 }
 
-// The values of ranks k_lo <= k_hi (0-based) among the selected values, exactly: a histogram
-// of the top 16 bits of ordered_bits() finds their buckets, whose few members nth_element sorts
-// out (two passes over the image instead of a selection over all of it).
+// Histogram of the top 16 bits of ordered_bits() of the selected values, in buffers kept
+// per thread (allocated once, not per frame). Neighbouring pixels often fall in the same
+// bucket; counting even and odd pixels in two tables keeps consecutive increments of one
+// bucket from waiting on each other.
 template <class Selected>
-void select_ranks(const ImageF& im, const Selected& selected, std::size_t k_lo, std::size_t k_hi, float& lo,
-                  float& hi) {
-  std::vector<std::uint32_t> hist(1u << 16, 0u);
-  for (float v : im.data) {
-    if (selected(v)) ++hist[ordered_bits(v) >> 16];
+const std::vector<std::uint32_t>& top_bits_histogram(const ImageF& im, const Selected& selected) {
+  constexpr std::size_t kBuckets = 1u << 16;
+  thread_local std::vector<std::uint32_t> hist, odd;
+  hist.assign(kBuckets, 0u);
+  odd.assign(kBuckets, 0u);
+  const std::size_t n = im.data.size();
+  const float* v = im.data.data();
+  std::size_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    if (selected(v[i])) ++hist[ordered_bits(v[i]) >> 16];
+    if (selected(v[i + 1])) ++odd[ordered_bits(v[i + 1]) >> 16];
   }
+  if (i < n && selected(v[i])) ++hist[ordered_bits(v[i]) >> 16];
+  for (std::size_t b = 0; b < kBuckets; ++b) hist[b] += odd[b];
+  return hist;
+}
+
+// The values of ranks k_lo <= k_hi (0-based) among the selected values, exactly: the
+// histogram finds their buckets, whose few members nth_element sorts out (two passes over
+// the image instead of a selection over all of it).
+template <class Selected>
+void select_ranks(const ImageF& im, const Selected& selected, const std::vector<std::uint32_t>& hist,
+                  std::size_t k_lo, std::size_t k_hi, float& lo, float& hi) {
   std::size_t before = 0, bucket_lo = 0, bucket_hi = 0, base_lo = 0, base_hi = 0;
   bool found_lo = false;
   for (std::size_t b = 0; b < hist.size(); ++b) {
@@ -95,6 +113,8 @@ void select_ranks(const ImageF& im, const Selected& selected, std::size_t k_lo, 
     before += hist[b];
   }
   std::vector<float> in_lo, in_hi;
+  in_lo.reserve(hist[bucket_lo]);
+  if (bucket_hi != bucket_lo) in_hi.reserve(hist[bucket_hi]);
   for (float v : im.data) {
     if (!selected(v)) continue;
     const std::size_t b = ordered_bits(v) >> 16;
@@ -108,6 +128,114 @@ void select_ranks(const ImageF& im, const Selected& selected, std::size_t k_lo, 
   hi = vh[k_hi - base_hi];
 }
 
+// Everything frame_statistics() sums, for rows [y0, y1), in ONE pass over the intensity and
+// depth rows: differences for pi (interior pixels), moments for the variances, valid depths.
+// Within a row, eight float lanes (the compiler vectorizes them) go to double per row.
+struct FrameSums {
+  DifferenceSums di, dd;
+  MomentSums mi, md;
+  void add(const FrameSums& o) {
+    di.add(o.di);
+    dd.add(o.dd);
+    mi.add(o.mi);
+    md.add(o.md);
+  }
+};
+
+constexpr int kLanes = 8;
+
+inline double lane_total(const float (&a)[kLanes]) {
+  double s = 0.0;
+  for (float v : a) s += v;
+  return s;
+}
+
+FrameSums frame_rows(const ImageF& I, const ImageF& D, int y0, int y1) {
+  FrameSums f;
+  const int w = I.width, h = I.height;
+  for (int y = y0; y < std::min(y1, h); ++y) {
+    const float* irow = I.data.data() + static_cast<std::size_t>(y) * w;
+    const float* drow = D.data.data() + static_cast<std::size_t>(y) * w;
+    float si[kLanes] = {}, si2[kLanes] = {}, sd[kLanes] = {}, sd2[kLanes] = {}, nd[kLanes] = {};
+    int x = 0;
+    for (; x + kLanes <= w; x += kLanes) {
+      for (int j = 0; j < kLanes; ++j) {
+        const float v = irow[x + j], d = drow[x + j];
+        const bool valid = d > 0.0f;
+        si[j] += v;
+        si2[j] += v * v;
+        sd[j] += valid ? d : 0.0f;
+        sd2[j] += valid ? d * d : 0.0f;
+        nd[j] += valid ? 1.0f : 0.0f;
+      }
+    }
+    for (; x < w; ++x) {
+      const float v = irow[x], d = drow[x];
+      si[0] += v;
+      si2[0] += v * v;
+      if (d > 0.0f) {
+        sd[0] += d;
+        sd2[0] += d * d;
+        nd[0] += 1.0f;
+      }
+    }
+    f.mi.s += lane_total(si);
+    f.mi.s2 += lane_total(si2);
+    f.mi.n += w;
+    f.md.s += lane_total(sd);
+    f.md.s2 += lane_total(sd2);
+    f.md.n += static_cast<long long>(lane_total(nd));
+    if (y < 1 || y + 1 >= h) continue;
+    const float *iu = irow - w, *ib = irow + w, *du = drow - w, *db = drow + w;
+    float gxi[kLanes] = {}, gyi[kLanes] = {}, gxd[kLanes] = {}, gyd[kLanes] = {}, nxd[kLanes] = {}, nyd[kLanes] = {};
+    x = 1;
+    for (; x + kLanes <= w - 1; x += kLanes) {
+      for (int j = 0; j < kLanes; ++j) {
+        const int k = x + j;
+        gxi[j] += std::fabs(irow[k + 1] - irow[k - 1]);
+        gyi[j] += std::fabs(ib[k] - iu[k]);
+        const bool ux = drow[k - 1] > 0.0f && drow[k + 1] > 0.0f;
+        const bool uy = du[k] > 0.0f && db[k] > 0.0f;
+        gxd[j] += ux ? std::fabs(drow[k + 1] - drow[k - 1]) : 0.0f;
+        gyd[j] += uy ? std::fabs(db[k] - du[k]) : 0.0f;
+        nxd[j] += ux ? 1.0f : 0.0f;
+        nyd[j] += uy ? 1.0f : 0.0f;
+      }
+    }
+    for (; x < w - 1; ++x) {
+      gxi[0] += std::fabs(irow[x + 1] - irow[x - 1]);
+      gyi[0] += std::fabs(ib[x] - iu[x]);
+      if (drow[x - 1] > 0.0f && drow[x + 1] > 0.0f) {
+        gxd[0] += std::fabs(drow[x + 1] - drow[x - 1]);
+        nxd[0] += 1.0f;
+      }
+      if (du[x] > 0.0f && db[x] > 0.0f) {
+        gyd[0] += std::fabs(db[x] - du[x]);
+        nyd[0] += 1.0f;
+      }
+    }
+    f.di.sum_x += lane_total(gxi);
+    f.di.sum_y += lane_total(gyi);
+    f.di.used_x += w - 2;
+    f.di.used_y += w - 2;
+    f.dd.sum_x += lane_total(gxd);
+    f.dd.sum_y += lane_total(gyd);
+    f.dd.used_x += static_cast<long long>(lane_total(nxd));
+    f.dd.used_y += static_cast<long long>(lane_total(nyd));
+  }
+  return f;
+}
+
+double metric_of(const DifferenceSums& d) {
+  return (d.used_x > 0 ? d.sum_x / d.used_x : 0.0) + (d.used_y > 0 ? d.sum_y / d.used_y : 0.0);
+}
+
+double variance_of(const MomentSums& m) {
+  if (m.n == 0) return 0.0;
+  const double mean = m.s / m.n;
+  return std::max(0.0, m.s2 / m.n - mean * mean);
+}
+
 }  // namespace
 
 double complexity_metric(const ImageF& image, bool skip_missing, int threads) {
@@ -116,7 +244,7 @@ double complexity_metric(const ImageF& image, bool skip_missing, int threads) {
         const int y0 = static_cast<int>(c) * kRowsPerChunk;
         return difference_rows(image, skip_missing, y0, y0 + kRowsPerChunk);
       });
-  return (d.used_x > 0 ? d.sum_x / d.used_x : 0.0) + (d.used_y > 0 ? d.sum_y / d.used_y : 0.0);
+  return metric_of(d);
 }
 
 double variance(const ImageF& image, bool skip_missing, int threads) {
@@ -132,34 +260,38 @@ double variance(const ImageF& image, bool skip_missing, int threads) {
     }
     return s;
   });
-  if (m.n == 0) return 0.0;
-  const double mean = m.s / m.n;
-  return std::max(0.0, m.s2 / m.n - mean * mean);
+  return variance_of(m);
 }
 
 double median(const ImageF& image, bool skip_missing) {
   const auto selected = [skip_missing](float v) { return !skip_missing || v > 0.0f; };
+  const std::vector<std::uint32_t>& hist = top_bits_histogram(image, selected);
   std::size_t count = 0;
-  for (float v : image.data) count += selected(v) ? 1 : 0;
+  for (std::uint32_t c : hist) count += c;
   if (count == 0) return 0.0;
   const std::size_t mid = count / 2;
   float lower = 0.0f, upper = 0.0f;
-  select_ranks(image, selected, count % 2 == 1 ? mid : mid - 1, mid, lower, upper);
+  select_ranks(image, selected, hist, count % 2 == 1 ? mid : mid - 1, mid, lower, upper);
   if (count % 2 == 1) return upper;
   return 0.5 * (double(lower) + upper);
 }
 
 FrameStatistics frame_statistics(const RgbdLevel& level, int threads) {
+  const ImageF& I = level.intensity;
+  const ImageF& D = level.depth;
   FrameStatistics s;
-  s.pi_intensity = complexity_metric(level.intensity, false, threads);
-  s.pi_depth = complexity_metric(level.depth, true, threads);
-  s.var_intensity = variance(level.intensity, false, threads);
-  s.var_depth = variance(level.depth, true, threads);
-  s.median_intensity = median(level.intensity, false);
-  s.median_depth = median(level.depth, true);
-  long long valid = 0;
-  for (float d : level.depth.data) valid += d > 0.0f;
-  s.valid_depth_fraction = level.depth.data.empty() ? 0.0 : double(valid) / level.depth.data.size();
+  const FrameSums f = sum_over_chunks<FrameSums>(
+      static_cast<std::size_t>(row_chunks(I.height)), 1, threads, [&](std::size_t c, std::size_t) {
+        const int y0 = static_cast<int>(c) * kRowsPerChunk;
+        return frame_rows(I, D, y0, y0 + kRowsPerChunk);
+      });
+  s.pi_intensity = metric_of(f.di);
+  s.pi_depth = metric_of(f.dd);
+  s.var_intensity = variance_of(f.mi);
+  s.var_depth = variance_of(f.md);
+  s.median_intensity = median(I, false);
+  s.median_depth = median(D, true);
+  s.valid_depth_fraction = D.data.empty() ? 0.0 : double(f.md.n) / D.data.size();
   return s;
 }
 

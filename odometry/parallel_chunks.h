@@ -36,10 +36,4 @@ Sums sum_over_chunks(std::size_t items, std::size_t chunk, int threads, const Fn
   return total;
 }
 
-// A double that sum_over_chunks can add.
-struct ChunkSum {
-  double value = 0.0;
-  void add(const ChunkSum& o) { value += o.value; }
-};
-
 }  // namespace bivo::odometry

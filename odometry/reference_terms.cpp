@@ -51,14 +51,11 @@ ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth
   const double ifx = 1.0 / K.fx, ify = 1.0 / K.fy;
   const auto usable = [&](float z) { return double(z) >= min_depth && double(z) <= max_depth; };
   ReferenceTerms t;
-  std::size_t n = 0;
-  for (float z : D.data) n += usable(z) ? 1 : 0;
-  t.count = n;
-  const std::size_t padded = padded_terms(n);
-  for (auto* v : {&t.x, &t.y, &t.z, &t.intensity}) v->assign(padded, 0.0f);
-  if (with_gradients) {
-    for (auto* v : {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v}) v->assign(padded, 0.0f);
-  }
+  // One pass: room for every pixel first (pooled memory, not touched beyond what is written),
+  // then the arrays are cut to the padded term count and their padding zeroed.
+  std::vector<PooledFloats*> arrays{&t.x, &t.y, &t.z, &t.intensity};
+  if (with_gradients) arrays.insert(arrays.end(), {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v});
+  for (PooledFloats* v : arrays) v->reset(padded_terms(D.data.size()));
   const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
   std::size_t k = 0;
   for (int y = 0; y < D.height; ++y) {
@@ -80,6 +77,11 @@ ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth
       }
       ++k;
     }
+  }
+  t.count = k;
+  for (PooledFloats* v : arrays) {
+    v->reset(padded_terms(k));
+    v->fill_from(k, 0.0f);
   }
   return t;
 }

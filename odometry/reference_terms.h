@@ -9,17 +9,20 @@
 //     and ESM Jacobians;
 //   * the current level's intensity and depth interleaved as [I, D] per pixel, so that one
 //     interpolation cell is two 16-byte reads.
+// The arrays take their memory from the per-thread pool of pooled_floats.h: the terms of the
+// next pair at the same level reuse these pages.
 #include <cstddef>
 #include <vector>
 
+#include "odometry/pooled_floats.h"
 #include "odometry/rgbd_kernels.h"
 #include "odometry/rgbd_pyramid.h"
 
 namespace bivo::odometry {
 
 struct ReferenceTerms {
-  std::vector<float> x, y, z, intensity;
-  std::vector<float> gi_u, gi_v, gd_u, gd_v;  // empty unless asked for
+  PooledFloats x, y, z, intensity;
+  PooledFloats gi_u, gi_v, gd_u, gd_v;  // empty unless asked for
   std::size_t count = 0;                      // terms; the arrays hold padded_terms(count)
 
   ReferenceArrays view() const;

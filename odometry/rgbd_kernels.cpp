@@ -59,6 +59,11 @@ void NormalSums::add(const NormalSums& o) {
   depth.add(o.depth);
 }
 
+void ScaleSums::add(const ScaleSums& o) {
+  sum += o.sum;
+  slope += o.slope;
+}
+
 void WeighSums::add(const WeighSums& o) {
   f_i += o.f_i;
   f_d += o.f_d;

@@ -110,6 +110,15 @@ struct NormalSums {
   GramSums intensity, depth;
   void add(const NormalSums& o);
 };
+// One evaluation of the t-distribution scale's fixed-point map g (robust_weights.h) over the
+// terms: sum = sum_k r_k^2 (nu + 1) / d_k, d_k = nu + r_k^2 inv_scale2, and slope =
+// sum_k [r_k^2 (nu + 1) / d_k] e_k with e_k = r_k^2 inv_scale2 / d_k, so that with sigma^2 =
+// 1 / inv_scale2 and n valid terms g = sum / n and dg/d(sigma^2) = slope / (n sigma^2) (for
+// Newton's method on sigma^2 = g(sigma^2)). Invalid terms have r = 0 and add 0.
+struct ScaleSums {
+  double sum = 0, slope = 0;
+  void add(const ScaleSums& o);
+};
 struct WeighSums {
   double f_i = 0, f_d = 0, weight_sum_i = 0, weight_sum_d = 0;
   void add(const WeighSums& o);
@@ -126,8 +135,7 @@ struct KernelTable {
   KernelIsa isa;
   WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin,
                    std::size_t end);
-  // sum_k r_k^2 (nu + 1) / (nu + r_k^2 inv_scale2) (invalid terms have r = 0 and add 0)
-  double (*t_scale_sum)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
+  ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
   WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&,
                                  const TermBuffers&, std::size_t begin, std::size_t end);

@@ -116,19 +116,24 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
 }
 
 template <class V>
-double t_scale_sum(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2) {
+ScaleSums t_scale_sums(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2) {
   using F = typename V::F;
-  const F fnu = V::set(nu), fnu1 = V::set(nu + 1.0f), inv = V::set(inv_scale2);
-  double total = 0.0;
+  const F fnu = V::set(nu), fnu1 = V::set(nu + 1.0f), inv = V::set(inv_scale2), one = V::set(1.0f);
+  ScaleSums total;
   for (std::size_t s = begin; s < end; s += kFlushTerms) {
     const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
-    F acc = V::set(0.0f);
+    F acc = V::set(0.0f), acc_slope = V::set(0.0f);
     for (std::size_t k = s; k < s_end; k += V::kWidth) {
       const F x = V::load(r + k);
       const F r2 = x * x;
-      acc = acc + r2 * fnu1 / V::fma(r2, inv, fnu);
+      const F a = r2 * inv;
+      const F t = one / (a + fnu);
+      const F term = r2 * fnu1 * t;
+      acc = acc + term;
+      acc_slope = V::fma(term, a * t, acc_slope);
     }
-    total += V::sum(acc);
+    total.sum += V::sum(acc);
+    total.slope += V::sum(acc_slope);
   }
   return total;
 }
@@ -333,7 +338,7 @@ NormalSums normal_equations_any(const NormalParams& p, const WeightModel& m, con
 
 template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa, &warp<V>, &t_scale_sum<V>, &weigh_any<V>, &normal_equations_any<V>};
+  return {isa, &warp<V>, &t_scale_sums<V>, &weigh_any<V>, &normal_equations_any<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS

@@ -110,7 +110,10 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
     cells_ = own_cells_.data();
   }
   const std::size_t n = padded_terms(reference_terms_.count);
-  for (auto* v : {&r_i_, &r_d_, &gi_u_, &gi_v_, &gd_u_, &gd_v_, &w_i_, &w_d_}) v->assign(n, 0.0f);
+  for (auto* v : {&r_i_, &r_d_, &gi_u_, &gi_v_, &gd_u_, &gd_v_, &w_i_, &w_d_}) {
+    v->reset(n);
+    v->fill_from(reference_terms_.count, 0.0f);
+  }
   flags_.assign(n, 0);
   stats_.terms = num_terms();
 }

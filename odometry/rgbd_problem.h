@@ -124,7 +124,9 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   std::vector<float> own_cells_;  // the current level interleaved, when the level has none
   const float* cells_ = nullptr;
   // Per-term state at the latest warp (padded_terms(count) entries each).
-  std::vector<float> r_i_, r_d_, gi_u_, gi_v_, gd_u_, gd_v_, w_i_, w_d_;
+  // Pooled (pooled_floats.h): not initialized beyond the zeroed padding; every pass writes
+  // an entry before any pass reads it.
+  PooledFloats r_i_, r_d_, gi_u_, gi_v_, gd_u_, gd_v_, w_i_, w_d_;
   std::vector<std::uint8_t> flags_;
   ObjectiveMask weights_mask_{false, false};  // objectives whose weights the buffers hold
   WeightModel model_;                          // as of the latest estimate_weights()

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "odometry/parallel_chunks.h"
 #include "solvers/error.h"
@@ -41,7 +42,7 @@ inline float mean_valid4(float a, float b, float c, float d) {
   return count > 0 ? sum / static_cast<float>(count) : 0.0f;
 }
 
-void interleave_rows(const RgbdLevel& L, std::vector<float>& out, int y0, int y1) {
+void interleave_rows(const RgbdLevel& L, PooledFloats& out, int y0, int y1) {
   const std::size_t w = static_cast<std::size_t>(L.intensity.width);
   for (std::size_t i = static_cast<std::size_t>(y0) * w; i < static_cast<std::size_t>(y1) * w; ++i) {
     out[2 * i] = L.intensity.data[i];
@@ -65,7 +66,7 @@ ImageF downsample_depth(const ImageF& fine) {
   return c;
 }
 
-RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads) {
+RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level) {
   if (levels < 1) throw Error("pyramid needs at least 1 level, got " + std::to_string(levels));
   const int cw = image.width >> (levels - 1), ch = image.height >> (levels - 1);
   if (cw < 8 || ch < 8) {
@@ -81,8 +82,8 @@ RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, i
   base.K = K;
   base.intensity.width = base.depth.width = image.width;
   base.intensity.height = base.depth.height = image.height;
-  base.intensity.data = image.intensity;
-  base.depth.data = image.depth;
+  base.intensity.data = std::move(image.intensity);
+  base.depth.data = std::move(image.depth);
   for (int l = 0; l < levels; ++l) {
     RgbdLevel& L = p.levels[static_cast<std::size_t>(l)];
     if (l > 0) {
@@ -92,7 +93,8 @@ RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, i
       L.intensity = half_size(fine.intensity);
       L.depth = half_size(fine.depth);
     }
-    L.intensity_depth.resize(2 * L.intensity.data.size());
+    const bool interleave = l >= finest_level;
+    if (interleave) L.intensity_depth.reset(2 * L.intensity.data.size());  // every entry written below
     const int rows = L.intensity.height;
     for_each_chunk(row_chunks(rows), threads, [&](int c) {
       const int y0 = c * kRowsPerChunk, y1 = std::min(rows, y0 + kRowsPerChunk);
@@ -101,7 +103,7 @@ RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, i
         downsample_rows(fine.intensity, L.intensity, y0, y1, mean4);
         downsample_rows(fine.depth, L.depth, y0, y1, mean_valid4);
       }
-      interleave_rows(L, L.intensity_depth, y0, y1);
+      if (interleave) interleave_rows(L, L.intensity_depth, y0, y1);
     });
   }
   return p;

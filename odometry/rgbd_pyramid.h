@@ -6,6 +6,7 @@
 
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/tum_dataset.h"
+#include "odometry/pooled_floats.h"
 
 namespace bivo::odometry {
 
@@ -24,8 +25,9 @@ struct RgbdLevel {
   ImageF depth;      // metres, 0 = missing
   io::Intrinsics K;      // intrinsics of this level
   // [I, D] per pixel, interleaved (what the float kernels read; build_pyramid fills it, a
-  // problem on a level without it interleaves its own copy).
-  std::vector<float> intensity_depth;
+  // problem on a level without it interleaves its own copy). Pooled (pooled_floats.h): the
+  // next frame's pyramid reuses these pages; a level is therefore move-only.
+  PooledFloats intensity_depth;
 };
 
 struct RgbdPyramid {
@@ -37,8 +39,12 @@ ImageF downsample_intensity(const ImageF& fine);
 ImageF downsample_depth(const ImageF& fine);
 
 // Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8. Rows
-// are split over `threads` threads (the result does not depend on it).
-RgbdPyramid build_pyramid(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads = 1);
+// are split over `threads` threads (the result does not depend on it). The image's arrays
+// become level 0 (pass an rvalue to move them instead of copying). Levels finer than
+// finest_level (never solved, e.g. 640x480 when tracking at 320x240) get no
+// intensity_depth: a problem on such a level interleaves its own copy.
+RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads = 1,
+                          int finest_level = 0);
 
 // Central-difference gradients (x: columns, y: rows), zero on the border; used for the
 // image statistics and for visualisation (the residual Jacobians differentiate the

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -165,9 +166,9 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
   return {static_cast<int>(first), static_cast<int>(end)};
 }
 
-PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads) {
+PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level) {
   PreparedFrame f;
-  f.pyramid = build_pyramid(image, K, levels, threads);
+  f.pyramid = build_pyramid(std::move(image), K, levels, threads, finest_level);
   f.statistics = frame_statistics(f.pyramid.levels[0], threads);
   return f;
 }
@@ -345,13 +346,13 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   out.intrinsics = seq.intrinsics;
 
   auto t_load = Clock::now();
-  const io::RgbdImage first = io::load_rgbd_image(seq.frames[first_index]);
+  io::RgbdImage first = io::load_rgbd_image(seq.frames[first_index]);
   const int width = first.width, height = first.height;
   double load_seconds = seconds_since(t_load);
   out.load_seconds += load_seconds;
   const int threads = options.problem.threads;
   auto t_prep = Clock::now();
-  PreparedFrame reference = prepare_frame(first, seq.intrinsics, options.levels, threads);
+  PreparedFrame reference = prepare_frame(std::move(first), seq.intrinsics, options.levels, threads, options.finest_level);
   out.profile.add("pyramid", seconds_since(t_prep));
 
   Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
@@ -363,14 +364,14 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
   for (int k = first_index + 1; k < end; ++k) {
     t_load = Clock::now();
-    const io::RgbdImage image = io::load_rgbd_image(seq.frames[k], width, height);
+    io::RgbdImage image = io::load_rgbd_image(seq.frames[k], width, height);
     load_seconds = seconds_since(t_load);
     out.load_seconds += load_seconds;
 
     // Each frame is prepared once: the current frame of pair k is the reference of pair k + 1.
     t_prep = Clock::now();
     const double prep_cpu0 = process_cpu_seconds();
-    PreparedFrame current = prepare_frame(image, seq.intrinsics, options.levels, threads);
+    PreparedFrame current = prepare_frame(std::move(image), seq.intrinsics, options.levels, threads, options.finest_level);
     const double prep_seconds = seconds_since(t_prep);
     const double prep_cpu = process_cpu_seconds() - prep_cpu0;
 

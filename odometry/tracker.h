@@ -149,12 +149,14 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair = {});
 
-// One preprocessed frame: its pyramid and full-resolution statistics.
+// One preprocessed frame: its pyramid and full-resolution statistics. An rvalue image is
+// moved into the pyramid; levels finer than finest_level are not interleaved (build_pyramid).
 struct PreparedFrame {
   RgbdPyramid pyramid;
   FrameStatistics statistics;
 };
-PreparedFrame prepare_frame(const io::RgbdImage& image, const io::Intrinsics& K, int levels, int threads = 1);
+PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads = 1,
+                            int finest_level = 0);
 
 // CPU time of this process so far (every thread), seconds.
 double process_cpu_seconds();

@@ -296,3 +296,67 @@ TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
   const PairResult rb = estimate_motion(scene().reference, scene().current, Eigen::Isometry3d::Identity(), b);
   EXPECT_TRUE(ra.T_21.matrix() == rb.T_21.matrix());
 }
+
+// The problems' buffers come from a per-thread pool and are not initialized
+// (odometry/pooled_floats.h): fill the pool with NaN-filled blocks, and every result must
+// still equal, bit for bit, that of a problem built before (a read of an unwritten entry
+// would give NaN or another number).
+TEST(RgbdKernels, PooledBuffersHoldingOtherNumbersDoNotChangeResults) {
+  const RgbdLevel& a = scene().reference.pyramid.levels[0];
+  const RgbdLevel& b = scene().current.pyramid.levels[0];
+  const Eigen::VectorXd x = near_truth(), x2 = se3::to_ambient(scene().T_21);
+  for (bool joint : {false, true}) {
+    for (bool model_f2 : {true, false}) {
+      RgbdProblemOptions o;
+      o.joint_weights = joint;
+      o.model_f2 = model_f2 || joint;
+      solvers::Linearization before;
+      std::array<double, 2> f_before{};
+      std::size_t smallest = 0;  // the smallest array the problem asks for
+      {
+        RgbdOdometryProblem p(a, b, o);
+        before = p.linearize(x, {});
+        f_before = p.evaluate(x2);
+        smallest = padded_terms(static_cast<std::size_t>(p.num_terms()));
+      }
+      {
+        // Taking 48 arrays of that size takes every pooled block the problem could use
+        // (the pool hands out the smallest block that fits); all of them now hold NaN.
+        std::vector<PooledFloats> junk;
+        for (int i = 0; i < 48; ++i) {
+          junk.emplace_back(smallest);
+          std::fill(junk.back().data(), junk.back().data() + junk.back().size(), std::nanf(""));
+        }
+      }  // released: the next problem takes these blocks
+      EXPECT_GE(PooledFloats::pooled_blocks(), 48u);
+      RgbdOdometryProblem p(a, b, o);
+      const solvers::Linearization after = p.linearize(x, {});
+      EXPECT_EQ(after.f1.a, before.f1.a);
+      EXPECT_EQ(after.f2.a, before.f2.a);
+      EXPECT_EQ((after.f1.H - before.f1.H).norm(), 0.0);
+      EXPECT_EQ((after.f1.b - before.f1.b).norm(), 0.0);
+      EXPECT_EQ((after.f2.H - before.f2.H).norm(), 0.0);
+      EXPECT_EQ((after.f2.b - before.f2.b).norm(), 0.0);
+      const std::array<double, 2> f_after = p.evaluate(x2);
+      EXPECT_EQ(f_after[0], f_before[0]);
+      EXPECT_EQ(f_after[1], f_before[1]);
+    }
+  }
+}
+
+TEST(RgbdKernels, APooledBlockIsTakenBackByTheNextArrayThatFits) {
+  // Larger than any other block of this process (the pool drops its smallest blocks when
+  // full); never written, so its pages are never touched.
+  constexpr std::size_t kLarge = std::size_t(1) << 24;
+  const float* block = nullptr;
+  {
+    PooledFloats first(kLarge);
+    block = first.data();
+  }
+  PooledFloats second(kLarge - 100);  // the smallest pooled block that holds it
+  EXPECT_EQ(second.data(), block);
+  EXPECT_EQ(second.size(), kLarge - 100);
+  PooledFloats moved = std::move(second);
+  EXPECT_EQ(moved.data(), block);
+  EXPECT_EQ(second.size(), 0u);
+}
