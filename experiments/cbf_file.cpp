@@ -30,7 +30,9 @@ struct ConeBlock {
   int dim;
 };
 
-// Lines with their numbers; comments (#...) and blank lines are skipped.
+// Lines with their numbers; comments (#...) and blank lines are skipped. A line is blank when
+// it has no token by the same rule that splits tokens (any isspace character: a line of form
+// feeds is blank, not a line with zero tokens -- fuzz_cbf, line_of_form_feeds.cbf).
 class LineReader {
  public:
   LineReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {}
@@ -38,12 +40,10 @@ class LineReader {
     std::string line;
     while (std::getline(in_, line)) {
       ++number_;
-      const auto first = line.find_first_not_of(" \t\r");
-      if (first == std::string::npos || line[first] == '#') continue;
       tokens.clear();
       std::istringstream ss(line);
       for (std::string t; ss >> t;) tokens.push_back(t);
-      return true;
+      if (!tokens.empty() && tokens[0][0] != '#') return true;
     }
     return false;
   }

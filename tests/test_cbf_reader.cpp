@@ -183,3 +183,18 @@ TEST(CbfReader, Var1073741824AndCon1073741824AreRefusedBeforeAllocating) {
   EXPECT_EQ(message(two_by_two), "accepted");
   bivo::experiments::max_cbf_size() = saved;
 }
+
+// Found by fuzz_cbf (tests/fuzz/regressions/cbf/line_of_form_feeds.cbf): a line of form feeds
+// was not skipped as blank but had zero tokens, and the keyword was read from an empty list
+// (UBSan: reference binding to null pointer). Every isspace-only line is blank now.
+TEST(CbfReader, LineOfFormFeeds) {
+  const CbfProblem p = parse("VER\n4\n\f\f\f\nVAR\n1 1\nF 1\n \t\v\r\nOBJACOORD\n1\n0 2\n");
+  EXPECT_EQ(p.problem.num_variables(), 1);
+  EXPECT_EQ(p.problem.c[0], 2.0);
+  try {
+    parse("\f\n");
+    ADD_FAILURE() << "accepted a file of one blank line";
+  } catch (const bivo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("empty file: no VER"), std::string::npos) << e.what();
+  }
+}
