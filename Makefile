@@ -1,14 +1,17 @@
 # The README's two commands: `make demo` (main job) and `make test` (the tests).
 # Both install the Debian packages first (idempotent), then configure and build.
 # Hardening (docs/reliability.md): `make sanitize` (clang, ASan + UBSan, every test) and
-# `make fuzz` (the libFuzzer targets, FUZZ_SECONDS each).
+# `make fuzz` (the libFuzzer targets, FUZZ_SECONDS each); CI: `make fuzz-ci` (a clang build of
+# only the fuzz targets and the readers they link, each run FUZZ_CI_SECONDS).
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo-output
 # Extra configure arguments, e.g. CMAKE_ARGS=-DCMAKE_COMPILE_WARNING_AS_ERROR=ON (CI).
 CMAKE_ARGS ?=
 SAN_BUILD ?= build-sanitize
+FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 30
+FUZZ_CI_SECONDS ?= 20
 # Extra ctest arguments of `make sanitize`, e.g. SAN_CTEST_ARGS="-R Hardening" for a subset.
 SAN_CTEST_ARGS ?=
 # One clang build serves the sanitized test suite, the fuzz targets and the portability
@@ -18,7 +21,14 @@ SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fra
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz
+# The clang configuration shared by `make sanitize` (whole project) and `make fuzz-ci`
+# (fuzz targets only); $(1) is the build folder.
+san_configure = cmake -S . -B $(1) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
+
+.PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz fuzz-ci
 
 deps:
 	bash scripts/install-deps.sh
@@ -40,10 +50,7 @@ bench: build
 	$(BUILD)/benchmarks/bivo_bench
 
 sanitize-build: deps-sanitizer
-	cmake -S . -B $(SAN_BUILD) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
-	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
-	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
+	$(call san_configure,$(SAN_BUILD))
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 
 sanitize: sanitize-build
@@ -52,5 +59,15 @@ sanitize: sanitize-build
 fuzz: sanitize-build
 	$(SAN_ENV) bash scripts/run-fuzzers.sh $(SAN_BUILD) $(FUZZ_SECONDS)
 
+# CI's fuzz step, after `make test`: the seeds come from the default build's bivo_fuzz_seeds,
+# the clang build compiles only the fuzz targets and the libraries they link (about 25 files),
+# each target runs FUZZ_CI_SECONDS from the seeds and the stored regressions; fails on any finding.
+fuzz-ci: deps-sanitizer
+	cmake --build $(BUILD) -j$(JOBS) --target bivo_fuzz_seeds
+	$(call san_configure,$(FUZZ_BUILD))
+	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target bivo_fuzz_targets
+	$(SAN_ENV) FUZZ_SEEDS_BIN=$(BUILD)/tests/fuzz/bivo_fuzz_seeds \
+	  bash scripts/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_CI_SECONDS)
+
 clean:
-	rm -rf $(BUILD) $(SAN_BUILD)
+	rm -rf $(BUILD) $(SAN_BUILD) $(FUZZ_BUILD)

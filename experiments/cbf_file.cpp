@@ -2,6 +2,7 @@
 // conversion to the IPM's form as sparse row selections of [A; I] (one per cone kind).
 #include "experiments/cbf_file.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -29,7 +30,9 @@ struct ConeBlock {
   int dim;
 };
 
-// Lines with their numbers; comments (#...) and blank lines are skipped.
+// Lines with their numbers; comments (#...) and blank lines are skipped. A line is blank when
+// it has no token by the same rule that splits tokens (any isspace character: a line of form
+// feeds is blank, not a line with zero tokens -- fuzz_cbf, line_of_form_feeds.cbf).
 class LineReader {
  public:
   LineReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {}
@@ -37,12 +40,10 @@ class LineReader {
     std::string line;
     while (std::getline(in_, line)) {
       ++number_;
-      const auto first = line.find_first_not_of(" \t\r");
-      if (first == std::string::npos || line[first] == '#') continue;
       tokens.clear();
       std::istringstream ss(line);
       for (std::string t; ss >> t;) tokens.push_back(t);
-      return true;
+      if (!tokens.empty() && tokens[0][0] != '#') return true;
     }
     return false;
   }
@@ -127,6 +128,15 @@ struct ParsedCbf {
   double c0 = 0.0;
 };
 
+// n + m in 64 bits (each <= 2^30) against the limit, before anything of that size exists.
+void check_size(const LineReader& r, const ParsedCbf& p) {
+  const std::int64_t size = std::int64_t{p.n} + p.m, limit = std::min<std::int64_t>(max_cbf_size(), kMaxDim);
+  if (size > limit) {
+    r.fail(std::to_string(p.n) + " variables + " + std::to_string(p.m) + " constraints exceed the limit of " +
+           std::to_string(limit) + " (raise with --max-conic-size)");
+  }
+}
+
 ParsedCbf parse_blocks(LineReader& r) {
   ParsedCbf p;
   bool have_version = false, have_con = false;
@@ -146,11 +156,13 @@ ParsedCbf parse_blocks(LineReader& r) {
     } else if (key == "VAR") {
       if (p.n >= 0) r.fail("VAR given twice");
       p.var_cones = read_cones(r, key, p.n);
+      check_size(r, p);
     } else if (key == "CON") {
       if (have_con) r.fail("CON given twice");
       if (p.n < 0) r.fail("CON must come after VAR");
       p.con_cones = read_cones(r, key, p.m);
       have_con = true;
+      check_size(r, p);
     } else if (key == "OBJACOORD" || key == "ACOORD" || key == "BCOORD") {
       if (p.n < 0) r.fail(key + " must come after VAR");
       if (key != "OBJACOORD" && !have_con) r.fail(key + " must come after CON");
@@ -271,6 +283,11 @@ CbfProblem convert(const ParsedCbf& p) {
 }
 
 }  // namespace
+
+std::int64_t& max_cbf_size() {
+  static std::int64_t limit = std::int64_t{1} << 24;
+  return limit;
+}
 
 CbfProblem parse_cbf(std::istream& in, const std::string& name) {
   LineReader reader(in, name);

@@ -11,6 +11,7 @@
 // (u, v, w) -> ((u + v)/sqrt 2, (u - v)/sqrt 2, w), which takes QR onto Q. MAX is solved as
 // min -c^T x. Integer variables, semidefinite, exponential and power cones (INT, PSDVAR,
 // PSDCON, FCOORD, HCOORD, DCOORD, EXP, POW...) are rejected with an error naming the line.
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
@@ -32,6 +33,13 @@ struct CbfProblem {
 // "<file>:<line>: <what>" on malformed or unsupported input.
 CbfProblem read_cbf(const std::string& path);
 CbfProblem parse_cbf(std::istream& in, const std::string& name);
+
+// The most variables + constraints (VAR n + CON m) a CBF file may declare. The two headers
+// decide allocations of O(n + m) before any entry is read, so a 30-byte file could otherwise
+// ask for gigabytes; above the limit the file is refused naming the line, the sizes and the
+// flag. Default 2^24 (the paper's VGA SOCP has about 6e5 rows); process-wide, raised with
+// `bivo --max-conic-size N`; at most 2^30.
+std::int64_t& max_cbf_size();
 
 // True for a path ending in ".cbf" (any case).
 bool is_cbf_path(const std::string& path);

@@ -26,9 +26,10 @@ PACKAGES=(
   munge
 )
 # clang for the sanitizer build (ASan + UBSan) and the libFuzzer targets (`make sanitize`,
-# `make fuzz`).
+# `make fuzz`, CI's `make fuzz-ci`); clang's OpenMP runtime, which CMake's find_package(OpenMP)
+# needs to configure with clang (without recommends, clang does not bring it).
 if [ "${1:-}" = "--sanitizer" ]; then
-  PACKAGES+=(clang libclang-rt-14-dev)
+  PACKAGES+=(clang libclang-rt-14-dev libomp-14-dev)
 fi
 
 missing_in() {

@@ -6,18 +6,20 @@
 # and it is replayed by every ctest run from then on.
 #
 # usage: scripts/run-fuzzers.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...]
-#   (or with FUZZ_RUNS=N instead of a time bound: that many executions per target)
+#   (or with FUZZ_RUNS=N instead of a time bound: that many executions per target;
+#    FUZZ_SEEDS_BIN=path: the seed writer of another build, e.g. the default one, when BUILD_DIR
+#    holds only the fuzz targets -- `make fuzz-ci`)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:?build folder of make sanitize}
 seconds=${2:-30}
 shift $(( $# >= 2 ? 2 : $# ))
 targets=("$@")
-if [ ${#targets[@]} -eq 0 ]; then targets=(tum_list trajectory png conic_json); fi
+if [ ${#targets[@]} -eq 0 ]; then targets=(tum_list trajectory png conic_json cbf); fi
 
 work="$build/fuzz"
 rm -rf "$work/seeds"
-"$build/tests/fuzz/bivo_fuzz_seeds" "$work/seeds"
+"${FUZZ_SEEDS_BIN:-$build/tests/fuzz/bivo_fuzz_seeds}" "$work/seeds"
 bound=(-max_total_time="$seconds")
 if [ -n "${FUZZ_RUNS:-}" ]; then bound=(-runs="$FUZZ_RUNS"); fi
 

@@ -154,3 +154,47 @@ TEST(CbfReader, ExtensionDecidesTheFormat) {
   EXPECT_FALSE(bivo::experiments::is_cbf_path("x.json"));
   EXPECT_FALSE(bivo::experiments::is_cbf_path("cbf"));
 }
+
+// Issue 15 (fuzz_cbf, tests/fuzz/regressions/cbf/): the VAR and CON headers alone used to
+// decide allocations of O(n + m) (and n + m = 2^31 overflowed int). Now the declared sizes are
+// checked in 64 bits against max_cbf_size() (bivo --max-conic-size) before anything exists.
+TEST(CbfReader, Var1073741824AndCon1073741824AreRefusedBeforeAllocating) {
+  const auto message = [](const std::string& text) {
+    try {
+      parse(text);
+    } catch (const bivo::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("VER\n4\nVAR\n1073741824 1\nF 1073741824\n"),
+            "test.cbf:5: 1073741824 variables + 0 constraints exceed the limit of 16777216 (raise with "
+            "--max-conic-size)");
+  EXPECT_EQ(message("VER\n4\nVAR\n1 1\nF 1\nCON\n1073741824 1\nL+ 1073741824\n"),
+            "test.cbf:8: 1 variables + 1073741824 constraints exceed the limit of 16777216 (raise with "
+            "--max-conic-size)");
+  // The limit counts n + m and can be raised (or lowered) by the caller.
+  const std::int64_t saved = bivo::experiments::max_cbf_size();
+  bivo::experiments::max_cbf_size() = 3;
+  const std::string two_by_two = "VER\n4\nVAR\n2 1\nL+ 2\nCON\n2 1\nL+ 2\nACOORD\n1\n0 0 1\n";
+  EXPECT_EQ(message(two_by_two),
+            "test.cbf:8: 2 variables + 2 constraints exceed the limit of 3 (raise with --max-conic-size)");
+  bivo::experiments::max_cbf_size() = 4;
+  EXPECT_EQ(message(two_by_two), "accepted");
+  bivo::experiments::max_cbf_size() = saved;
+}
+
+// Found by fuzz_cbf (tests/fuzz/regressions/cbf/line_of_form_feeds.cbf): a line of form feeds
+// was not skipped as blank but had zero tokens, and the keyword was read from an empty list
+// (UBSan: reference binding to null pointer). Every isspace-only line is blank now.
+TEST(CbfReader, LineOfFormFeeds) {
+  const CbfProblem p = parse("VER\n4\n\f\f\f\nVAR\n1 1\nF 1\n \t\v\r\nOBJACOORD\n1\n0 2\n");
+  EXPECT_EQ(p.problem.num_variables(), 1);
+  EXPECT_EQ(p.problem.c[0], 2.0);
+  try {
+    parse("\f\n");
+    ADD_FAILURE() << "accepted a file of one blank line";
+  } catch (const bivo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("empty file: no VER"), std::string::npos) << e.what();
+  }
+}

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "experiments/cbf_file.h"
+#include "experiments/conic_file.h"
 #include "harnesses.h"
 #include "odometry/io/png_io.h"
 #include "odometry/io/trajectory.h"
@@ -53,6 +55,18 @@ TEST(FuzzRegressions, SeedsAreValidInputs) {
   EXPECT_EQ(bivo::odometry::io::read_tum_trajectory((dir / "trajectory" / "groundtruth.txt").string()).size(), 3u);
   EXPECT_EQ(bivo::odometry::io::read_png8((dir / "png" / "rgb.png").string()).channels, 3);
   EXPECT_EQ(bivo::odometry::io::read_png16((dir / "png" / "depth.png").string()).width, 12);
+  // The CBF writer of the seeds against the JSON reader: the same LP, min -x1 - x2 s.t.
+  // x1 + 2 x2 <= 4, 3 x1 + x2 <= 6, x >= 0, optimum -2.8 at (1.6, 1.2), from both files.
+  const bivo::experiments::CbfProblem cbf = bivo::experiments::read_cbf((dir / "cbf" / "lp_dense.cbf").string());
+  const auto json = bivo::experiments::read_conic_json((dir / "conic_json" / "lp_dense.json").string());
+  for (const auto* p : {&cbf.problem, &json}) {
+    const auto r = bivo::solvers::conic::solve_conic(*p);
+    ASSERT_EQ(r.status, bivo::solvers::conic::IpmStatus::kOptimal);
+    EXPECT_NEAR(r.primal_objective, -2.8, 1e-7);
+    EXPECT_NEAR(r.x[0], 1.6, 1e-6);
+    EXPECT_NEAR(r.x[1], 1.2, 1e-6);
+  }
+  EXPECT_EQ(bivo::experiments::read_cbf((dir / "cbf" / "paper_socp_full.cbf").string()).problem.cones.soc.size(), 2u);
   EXPECT_FALSE(fs::exists(dir / "sequence"));
   fs::remove_all(dir);
 }

@@ -327,3 +327,16 @@ TEST_F(HardeningCli, EvalGroundtruthWithOneTimestampTwice) {
   std::ofstream(dir_ / "gt.txt") << "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n";
   expect_clear_error(bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "gt.txt")), "gt.txt:3: timestamp 2");
 }
+
+// Found by fuzz_cbf (tests/fuzz/regressions/cbf/var_and_con_1073741824.cbf): a 70-byte CBF
+// file's VAR and CON headers asked for 2^31 rows (int overflow, then gigabytes).
+TEST_F(HardeningCli, CbfVarAndCon1073741824) {
+  const fs::path file = fs::path(BIVO_TESTS_DIR) / "fuzz" / "regressions" / "cbf" / "var_and_con_1073741824.cbf";
+  expect_clear_error(bivo("conic " + q(file)),
+                     "var_and_con_1073741824.cbf:5: 1073741824 variables + 0 constraints exceed the limit of "
+                     "16777216 (raise with --max-conic-size)");
+  const BivoRun over = bivo("--max-conic-size 1073741825 conic " + q(file));
+  EXPECT_NE(over.status, 0);
+  EXPECT_TRUE(contains(over.err, "--max-conic-size")) << over.err;
+  expect_only({});
+}

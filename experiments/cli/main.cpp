@@ -1,9 +1,11 @@
 // The `bivo` command line: one CLI11 app, one subcommand per experiments/cli/cmd_*.cpp.
+#include <cstdint>
 #include <exception>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
 
+#include "experiments/cbf_file.h"
 #include "experiments/cli/commands.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"
@@ -20,6 +22,10 @@ int main(int argc, char** argv) {
                  "most lines of a TUM list or trajectory (and frames of a rendered sequence)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--max-conic-size", bivo::experiments::max_cbf_size(),
+                 "most variables + constraints a CBF file may declare (at most 2^30)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 30));
   app.fallthrough();
   namespace ex = bivo::experiments::cli;
   ex::add_demo_command(app);

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
+#include "experiments/cbf_file.h"
 #include "experiments/conic_file.h"
 #include "odometry/io/input_limits.h"
 #include "odometry/io/metrics.h"
@@ -43,6 +45,7 @@ class Scratch {
 void set_fuzz_limits() {
   odometry::io::input_limits().max_image_pixels = 1 << 20;
   odometry::io::input_limits().max_list_entries = 100000;
+  experiments::max_cbf_size() = 100000;
 }
 
 template <typename F>
@@ -103,9 +106,19 @@ void conic_json(const std::uint8_t* data, std::size_t size) {
   });
 }
 
+void cbf(const std::uint8_t* data, std::size_t size) {
+  set_fuzz_limits();
+  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  rejecting_with_error([&] {
+    const experiments::CbfProblem p = experiments::parse_cbf(in, "fuzz.cbf");
+    const solvers::conic::ConeProduct cones(p.problem.cones);
+    (void)p.file_objective(1.0);
+  });
+}
+
 const std::vector<Harness>& harnesses() {
-  static const std::vector<Harness> all = {
-      {"tum_list", tum_list}, {"trajectory", trajectory}, {"png", png}, {"conic_json", conic_json}};
+  static const std::vector<Harness> all = {{"tum_list", tum_list}, {"trajectory", trajectory}, {"png", png},
+                                           {"conic_json", conic_json}, {"cbf", cbf}};
   return all;
 }
 

@@ -1,15 +1,21 @@
 // Seed corpora for the fuzz targets, made by the project itself: a small rendered sequence
 // (its lists and ground truth, crops of its frames as PNGs), generated hand-held motion and
-// the conic problems of docs/conic.md's format.
+// the conic problems of docs/conic.md's format, and the same problems plus the paper's SOCP of a
+// synthetic step written as CBF.
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
+#include <vector>
 
+#include "experiments/conic_file.h"
 #include "harnesses.h"
 #include "odometry/io/png_io.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/synth/motion.h"
 #include "odometry/synth/sequence.h"
+#include "solvers/conic/qcqp_socp.h"
+#include "solvers/conic/synthetic_qcqp.h"
 
 namespace bivo::fuzz {
 namespace {
@@ -21,6 +27,53 @@ void copy_into(const fs::path& from, const fs::path& dir, const std::string& nam
 }
 
 void write_text(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+
+// A conic problem of the IPM (min c^T x, A x = b, G x + s = h, s in R+^l x Q..) as CBF:
+// x free; the rows A x - b in L=, then h - G x in L+ (l rows) and one Q block per cone.
+void write_cbf(const fs::path& file, const solvers::conic::ConicProblem& p) {
+  using solvers::conic::SparseMatrix;
+  const int n = p.num_variables(), eq = p.num_equalities(), l = p.cones.nonnegative;
+  std::vector<std::string> cones, a, b, c;
+  if (eq > 0) cones.push_back("L= " + std::to_string(eq));
+  if (l > 0) cones.push_back("L+ " + std::to_string(l));
+  for (int q : p.cones.soc) cones.push_back("Q " + std::to_string(q));
+  std::ostringstream v;
+  v << std::setprecision(17);
+  const auto entry = [&v](std::vector<std::string>& out, const std::string& index, double value) {
+    v.str("");
+    v << index << " " << value;
+    out.push_back(v.str());
+  };
+  for (int j = 0; j < n; ++j) {
+    if (p.c[j] != 0.0) entry(c, std::to_string(j), p.c[j]);
+  }
+  const auto matrix = [&](const SparseMatrix& M, int row0, double sign) {
+    for (int j = 0; j < M.outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
+        entry(a, std::to_string(row0 + it.row()) + " " + std::to_string(j), sign * it.value());
+      }
+    }
+  };
+  matrix(p.A, 0, 1.0);
+  matrix(p.G, eq, -1.0);
+  for (int i = 0; i < eq; ++i) {
+    if (p.b[i] != 0.0) entry(b, std::to_string(i), -p.b[i]);
+  }
+  for (int i = 0; i < p.num_cone_rows(); ++i) {
+    if (p.h[i] != 0.0) entry(b, std::to_string(eq + i), p.h[i]);
+  }
+  std::ofstream out(file);
+  out << "# written by bivo_fuzz_seeds\nVER\n3\n\nOBJSENSE\nMIN\n\nVAR\n" << n << " 1\nF " << n << "\n\nCON\n"
+      << eq + p.num_cone_rows() << " " << cones.size() << "\n";
+  for (const auto& line : cones) out << line << "\n";
+  const auto block = [&out](const char* key, const std::vector<std::string>& lines) {
+    out << "\n" << key << "\n" << lines.size() << "\n";
+    for (const auto& line : lines) out << line << "\n";
+  };
+  block("OBJACOORD", c);
+  block("ACOORD", a);
+  block("BCOORD", b);
+}
 
 }  // namespace
 
@@ -70,6 +123,22 @@ void write_seeds(const std::string& dir) {
              R"({"c": [0, 0, 1], "A": [[1, 1, 0]], "b": [1],)"
              R"( "G": {"rows": 3, "cols": 3, "triplets": [[0, 2, -1], [1, 0, -1], [2, 1, -1]]},)"
              R"( "h": [0, 0, 0], "cones": {"l": 0, "q": [3]}})");
+
+  // CBF: the two JSON problems, the paper's SOCP of a 12-pixel synthetic step in the full and
+  // the compressed form, and the cone kinds and keywords the IPM form has no JSON for.
+  for (const char* name : {"lp_dense", "socp_triplets"}) {
+    write_cbf(root / "cbf" / (std::string(name) + ".cbf"),
+              experiments::read_conic_json((root / "conic_json" / (std::string(name) + ".json")).string()));
+  }
+  namespace conic = solvers::conic;
+  const conic::SyntheticStep step = conic::make_synthetic_step(12, 7);
+  write_cbf(root / "cbf" / "paper_socp_full.cbf", conic::full_qcqp_socp(*step.lin.full1, *step.lin.full2, step.epsilon));
+  write_cbf(root / "cbf" / "paper_socp_compressed.cbf",
+            conic::compressed_qcqp_socp(conic::factor_from_model(step.lin.f1), conic::factor_from_model(step.lin.f2),
+                                        step.epsilon));
+  write_text(root / "cbf" / "rotated_max.cbf",
+             "VER\n4\nOBJSENSE\nMAX\nVAR\n4 2\nL- 1\nQR 3\nCON\n2 2\nL+ 1\nL= 1\nOBJACOORD\n2\n0 1\n3 -1\n"
+             "OBJBCOORD\n0.5\nACOORD\n3\n0 0 -1\n1 1 1\n1 2 -2\nBCOORD\n2\n0 4\n1 1\n");
   fs::remove_all(scratch);
 }
 
