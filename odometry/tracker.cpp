@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -242,45 +243,66 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       result.levels.push_back(lr);
       continue;
     }
-    if (options.pixel_motion_tolerance > 0.0) {
-      solver_options.step_measure = [&problem](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
-        return problem.pixel_motion(at, delta);
-      };
-      solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
-    }
-    const auto run = [&](const solvers::Scalarization& scalarization) {
-      return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, solver_options)
-                           : solvers::solve(problem, scalarization, *step_backend, x, solver_options);
-    };
     const Eigen::VectorXd x_before = x;
-    solvers::Summary summary;
     double level_lambda = lambda;
-    if (method == Method::kBounded) {
-      // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
-      RgbdOdometryProblem* p = &problem;
-      summary = run(solvers::EpsilonConstraint(
-          [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; }));
-    } else if (method == Method::kNoiseBounded) {
-      const NoiseBoundedLevel nb = solve_noise_bounded(problem, options.policy, run, solver_options, x);
-      summary = nb.summary;
-      lr.relaxed = nb.relaxed;
-      lr.guard_rise = nb.rise;
-      if (nb.relaxed) {
-        ++result.relaxed_levels;
-        result.note += "level " + std::to_string(level) + " bound relaxed; ";
+    // The level's solve on one problem (the method's scalarization from x); fills the
+    // method-specific parts of lr.
+    const auto solve_level = [&](RgbdOdometryProblem& on) {
+      if (options.pixel_motion_tolerance > 0.0) {
+        solver_options.step_measure = [&on](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
+          return on.pixel_motion(at, delta);
+        };
+        solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
       }
-      result.epsilon_per_weight = nb.eps_bar;
-    } else if (lambda_from_residuals(method)) {
-      RgbdOdometryProblem* p = &problem;
-      const PolicyParameters policy = options.policy;
-      double* last = &level_lambda;
-      summary = run(solvers::WeightedSum([p, method, policy, last](const solvers::Linearization&) {
-        return *last = residual_lambda(method, p->last_stats(), policy);
-      }));
-    } else {
-      summary = run(solvers::WeightedSum(lambda));
+      const auto run = [&](const solvers::Scalarization& scalarization) {
+        return whole_problem ? solvers::solve(on, scalarization, backend_name, x, solver_options)
+                             : solvers::solve(on, scalarization, *step_backend, x, solver_options);
+      };
+      RgbdOdometryProblem* p = &on;
+      if (method == Method::kBounded) {
+        // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
+        return run(solvers::EpsilonConstraint(
+            [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; }));
+      }
+      if (method == Method::kNoiseBounded) {
+        const NoiseBoundedLevel nb = solve_noise_bounded(on, options.policy, run, solver_options, x);
+        lr.relaxed = nb.relaxed;
+        lr.guard_rise = nb.rise;
+        result.epsilon_per_weight = nb.eps_bar;
+        return nb.summary;
+      }
+      if (lambda_from_residuals(method)) {
+        const PolicyParameters policy = options.policy;
+        double* last = &level_lambda;
+        return run(solvers::WeightedSum([p, method, policy, last](const solvers::Linearization&) {
+          return *last = residual_lambda(method, p->last_stats(), policy);
+        }));
+      }
+      return run(solvers::WeightedSum(lambda));
+    };
+    solvers::Summary summary = solve_level(problem);
+    // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
+    // point is not the cost's stationary point; the exact finish continues the finest level
+    // from there with current-side gradients (TrackerOptions::exact_finish).
+    std::optional<RgbdOdometryProblem> exact;
+    RgbdOdometryProblem* solved = &problem;
+    if (options.exact_finish && level == options.finest_level && problem_options.jacobian != JacobianKind::kForward &&
+        x.allFinite()) {
+      RgbdProblemOptions exact_options = problem_options;
+      exact_options.jacobian = JacobianKind::kForward;
+      const auto t_exact = Clock::now();
+      exact.emplace(reference.pyramid.levels[level], current.pyramid.levels[level], exact_options);
+      result.profile.add("reference", seconds_since(t_exact));
+      const int first_iterations = summary.iterations;
+      summary = solve_level(*exact);
+      summary.iterations += first_iterations;
+      solved = &*exact;
     }
-    const RgbdLinearizationStats& stats = problem.last_stats();
+    if (lr.relaxed) {
+      ++result.relaxed_levels;
+      result.note += "level " + std::to_string(level) + " bound relaxed; ";
+    }
+    const RgbdLinearizationStats& stats = solved->last_stats();
     lr.valid_intensity = stats.valid_intensity;
     lr.valid_depth = stats.valid_depth;
     lr.iterations = summary.iterations;
@@ -299,7 +321,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.f_d = problem_options.depth_first ? summary.final_f1 : summary.final_f2;
     if (one_objective) {
       if (options.evaluate_unused_objective) {
-        const std::array<double, 2> f = problem.objectives_at(x, &result.profile);
+        const std::array<double, 2> f = solved->objectives_at(x, &result.profile);
         (problem_options.depth_first ? lr.f_i : lr.f_d) = f[problem_options.depth_first ? 0 : 1];
       } else {
         (problem_options.depth_first ? lr.f_i : lr.f_d) = kNotEvaluated;

@@ -204,3 +204,47 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   EXPECT_GT(guarded.levels.back().guard_rise, o.policy.guard);
   EXPECT_LT(unbiased.levels.back().guard_rise, 0.25 * guarded.levels.back().guard_rise);
 }
+
+// Reference-side gradients (joint's default Jacobian, inverse) make Gauss-Newton converge to a
+// fixed point of the approximate Jacobian, not to a stationary point of the cost. The exact
+// finish continues the finest level with current-side gradients: its estimate must be (near) a
+// fixed point of exact Gauss-Newton, i.e. one exact step from it barely moves, while from the
+// inverse-only estimate the exact step is clearly longer.
+TEST(Tracker, ExactFinishEndsAtAFixedPointOfExactGaussNewton) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const TumSequence seq = open_tum_sequence(kData + "rgbd_dataset_freiburg1_desk", {});
+  TrackerOptions o;
+  o.method = "joint";
+  // Tolerances tight enough that each run ends at its own fixed point, not at a stopping rule.
+  o.max_iterations = 25;
+  o.step_tolerance = 1e-10;
+  o.relative_decrease_tolerance = 1e-12;
+  const RgbdImage a = load_rgbd_image(seq.frames[2]);
+  const RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
+  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);
+  const PreparedFrame cur = prepare_frame(b, seq.intrinsics, o.levels);
+  // Full resolution alone: one exact (forward) Gauss-Newton step of joint from a given pose.
+  const PreparedFrame ref0 = prepare_frame(a, seq.intrinsics, 1);
+  const PreparedFrame cur0 = prepare_frame(b, seq.intrinsics, 1);
+  const auto exact_step = [&](const Eigen::Isometry3d& from) {
+    TrackerOptions one = o;
+    one.levels = 1;
+    one.max_iterations = 1;
+    one.problem.jacobian = JacobianKind::kForward;
+    return pose_error(estimate_motion(ref0, cur0, from, one).T_21, from);
+  };
+  TrackerOptions inverse_only = o;
+  inverse_only.exact_finish = false;
+  TrackerOptions finished = o;
+  finished.exact_finish = true;
+  const PairResult r_inverse = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), inverse_only);
+  const PairResult r_finished = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), finished);
+  const PoseError s_inverse = exact_step(r_inverse.T_21), s_finished = exact_step(r_finished.T_21);
+  std::printf("[ exact step ] from the inverse-only estimate %.2e m %.2e deg, from the exact finish %.2e m %.2e deg "
+              "(iterations %d -> %d)\n",
+              s_inverse.translation_m, s_inverse.rotation_deg, s_finished.translation_m, s_finished.rotation_deg,
+              r_inverse.iterations, r_finished.iterations);
+  EXPECT_GT(r_finished.iterations, r_inverse.iterations);
+  EXPECT_LT(s_finished.translation_m, 0.3 * s_inverse.translation_m);
+  EXPECT_LT(s_finished.rotation_deg, 0.3 * s_inverse.rotation_deg);
+}

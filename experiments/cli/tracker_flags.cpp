@@ -76,6 +76,9 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
   add<double>("--pixel-motion-tolerance",
               "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
               d.pixel_motion_tolerance, [](TrackerOptions& o, const double& v) { o.pixel_motion_tolerance = v; });
+  add<bool>("--exact-finish",
+            "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients (true/false)",
+            d.exact_finish, [](TrackerOptions& o, const bool& v) { o.exact_finish = v; });
   add<bool>("--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end (true/false)",
             d.evaluate_unused_objective,
