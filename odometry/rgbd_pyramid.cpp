@@ -80,14 +80,22 @@ ImageF half_size(const ImageF& fine) {
   return c;
 }
 
-inline float mean4(float a, float b, float c, float d) { return 0.25f * (a + b + c + d); }
+// Function objects, not functions: downsample_rows<> is then instantiated per reduction and
+// the reduction inlined (through a function pointer it was one indirect call per pixel).
+struct Mean4 {
+  float operator()(float a, float b, float c, float d) const { return 0.25f * (a + b + c + d); }
+};
+constexpr Mean4 mean4{};
 
 // Mean of the valid (> 0) depths only: averaging in a hole would invent a depth.
-inline float mean_valid4(float a, float b, float c, float d) {
-  const float sum = (a > 0.0f ? a : 0.0f) + (b > 0.0f ? b : 0.0f) + (c > 0.0f ? c : 0.0f) + (d > 0.0f ? d : 0.0f);
-  const int count = (a > 0.0f) + (b > 0.0f) + (c > 0.0f) + (d > 0.0f);
-  return count > 0 ? sum / static_cast<float>(count) : 0.0f;
-}
+struct MeanValid4 {
+  float operator()(float a, float b, float c, float d) const {
+    const float sum = (a > 0.0f ? a : 0.0f) + (b > 0.0f ? b : 0.0f) + (c > 0.0f ? c : 0.0f) + (d > 0.0f ? d : 0.0f);
+    const int count = (a > 0.0f) + (b > 0.0f) + (c > 0.0f) + (d > 0.0f);
+    return count > 0 ? sum / static_cast<float>(count) : 0.0f;
+  }
+};
+constexpr MeanValid4 mean_valid4{};
 
 void interleave_rows(const RgbdLevel& L, PooledFloats& out, int y0, int y1) {
   const std::size_t w = static_cast<std::size_t>(L.intensity.width);
