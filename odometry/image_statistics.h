@@ -2,6 +2,8 @@
 // Per-image statistics that drive the lambda / epsilon policies (paper Sec. III-A):
 // the complexity metric pi of eqs. `image complexity metric` / `depth complexity metric`,
 // variances for the scale factor of eq. `scale factor`, and medians for Tykkala's lambda.
+#include <limits>
+
 #include "odometry/rgbd_pyramid.h"
 
 namespace bivo::odometry {
@@ -21,14 +23,21 @@ double variance(const ImageF& image, bool skip_missing, int threads = 1);
 double median(const ImageF& image, bool skip_missing);
 
 // Everything the policies need from one frame, computed once per frame. Sums are taken over
-// fixed row chunks (threads change the time, not the numbers).
+// fixed row chunks (threads change the time, not the numbers). The exact medians cost about
+// as much as all the sums together (two histogram passes and a selection per image) and only
+// Tykkala's lambda reads them (reads_medians() in odometry_methods.h): they are left out
+// unless asked for, NaN with has_medians = false, and add_medians() fills them in on demand.
 struct FrameStatistics {
   double pi_intensity = 0.0;  // gray levels per pixel
   double pi_depth = 0.0;      // metres per pixel
   double var_intensity = 0.0, var_depth = 0.0;
-  double median_intensity = 0.0, median_depth = 0.0;
+  bool has_medians = false;
+  double median_intensity = std::numeric_limits<double>::quiet_NaN();
+  double median_depth = std::numeric_limits<double>::quiet_NaN();
   double valid_depth_fraction = 0.0;
 };
-FrameStatistics frame_statistics(const RgbdLevel& level, int threads = 1);
+FrameStatistics frame_statistics(const RgbdLevel& level, int threads = 1, bool with_medians = false);
+// median(I) and median(D > 0) of the level into s (a no-op when s has them).
+void add_medians(FrameStatistics& s, const RgbdLevel& level);
 
 }  // namespace bivo::odometry

@@ -23,7 +23,8 @@ constexpr MethodName kMethods[] = {{Method::kSingle, "single"},   {Method::kDept
 std::string statistics_text(const FrameStatistics& s) {
   std::ostringstream m;
   m << "pi(I) = " << s.pi_intensity << ", pi(D) = " << s.pi_depth << ", var(I) = " << s.var_intensity
-    << ", var(D) = " << s.var_depth << ", median(I) = " << s.median_intensity << ", median(D) = " << s.median_depth;
+    << ", var(D) = " << s.var_depth;
+  if (s.has_medians) m << ", median(I) = " << s.median_intensity << ", median(D) = " << s.median_depth;
   return m.str();
 }
 
@@ -48,6 +49,7 @@ constexpr const char* kTykkalaWhat = "Tykkala's lambda |median(I)/median(D)|^2";
 constexpr const char* kAdaptiveWhat = "adaptive lambda phi gamma^2 pi(D)^2 / pi(I)^2";
 
 double tykkala_formula(const FrameStatistics& s) {
+  if (!s.has_medians) throw Error("Tykkala's lambda needs the frame's medians; they were not computed (add_medians())");
   const double ratio = s.median_intensity / s.median_depth;
   return ratio * ratio;
 }
@@ -87,6 +89,8 @@ bool is_bounded(Method method) { return method == Method::kBounded || method == 
 bool lambda_from_residuals(Method method) { return method == Method::kJoint || method == Method::kScaled; }
 
 std::string default_backend(Method method) { return is_bounded(method) ? "exact" : "gn"; }
+
+bool reads_medians(Method method) { return method == Method::kTykkala; }
 
 double tykkala_lambda(const FrameStatistics& s) { return checked(tykkala_formula(s), kTykkalaWhat, s); }
 

@@ -61,6 +61,11 @@ struct PolicyParameters {
   double guard = 168.0;         // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
 };
 
+// Whether the method's per-frame rule reads the frame's medians (FrameStatistics::has_medians
+// must then be set: add_medians()); only tykkala does.
+bool reads_medians(Method method);
+
+// Throws bivo::Error when s has no medians (as frame_lambda() for tykkala).
 double tykkala_lambda(const FrameStatistics& s);
 // gamma = var(I) / var(D) (eq. `scale factor`); lambda = phi gamma^2 pi(D)^2 / pi(I)^2.
 double adaptive_lambda(const FrameStatistics& s, double phi);

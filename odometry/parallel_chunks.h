@@ -1,22 +1,41 @@
 #pragma once
 // Chunked loops over the terms of a problem (or the rows of an image) whose results do not
 // depend on the number of threads: work is cut into fixed chunks, each chunk's sums are kept
-// apart, and the partial sums are added in chunk order afterwards. OpenMP (GCC's libgomp)
-// runs the chunks; threads = 1 never enters a parallel region.
+// apart, and the partial sums are added in chunk order afterwards.
+//
+// oneTBB runs the chunks (work stealing, one chunk per task): the calling thread takes
+// chunks itself and a worker only gets the chunks it steals while it runs, so the caller
+// never waits at a barrier for a worker the scheduler has not given a core (on a loaded
+// machine it then does all chunks itself, at one-thread speed). The OpenMP regions of the
+// second round waited for every worker's static share: 2 threads were 20-50x slower than
+// one under load (docs/odometry.md "Speed"). threads = 1 never enters TBB.
 #include <cstddef>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
 namespace bivo::odometry {
+
+// An arena of `threads` slots (the caller's and threads - 1 workers'), one per count,
+// made once per calling thread.
+tbb::task_arena& chunk_arena(int threads);
 
 template <class Fn>
 void for_each_chunk(int chunks, int threads, const Fn& fn) {
-#ifdef _OPENMP
   if (threads > 1 && chunks > 1) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int c = 0; c < chunks; ++c) fn(c);
+    chunk_arena(threads).execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<int>(0, chunks, 1),
+          [&](const tbb::blocked_range<int>& r) {
+            for (int c = r.begin(); c != r.end(); ++c) fn(c);
+          },
+          tbb::simple_partitioner());
+    });
     return;
   }
-#endif
   for (int c = 0; c < chunks; ++c) fn(c);
 }
 

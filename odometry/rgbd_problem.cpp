@@ -114,7 +114,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
     v->reset(n);
     v->fill_from(reference_terms_.count, 0.0f);
   }
-  flags_.assign(n, 0);
+  flag_storage_.reset((n + sizeof(float) - 1) / sizeof(float));
   stats_.terms = num_terms();
 }
 
@@ -150,7 +150,7 @@ TermBuffers RgbdOdometryProblem::buffers() {
   b.gi_v = gi_v_.data();
   b.gd_u = gd_u_.data();
   b.gd_v = gd_v_.data();
-  b.flags = flags_.data();
+  b.flags = flags();
   b.w_i = w_i_.data();
   b.w_d = w_d_.data();
   return b;
@@ -195,7 +195,7 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
   if (options_.joint_weights && mask.intensity && mask.depth) {
     // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
     // written to the buffers here; the kernels then apply them as stored weights.
-    stats_.joint_scale = compute_joint_weights_flagged(r_i_.data(), r_d_.data(), flags_.data(), n, options_.weights,
+    stats_.joint_scale = compute_joint_weights_flagged(r_i_.data(), r_d_.data(), flags(), n, options_.weights,
                                                        w_i_.data(), w_d_.data(), stats_.joint_scale);
     stats_.sigma_intensity = std::sqrt(stats_.joint_scale.s_ii);
     stats_.sigma_depth = std::sqrt(stats_.joint_scale.s_dd);
@@ -203,13 +203,13 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
     return;
   }
   if (mask.intensity) {
-    const ResidualSet set{r_i_.data(), flags_.data(), 1, at.valid_i, at.ss_i};
+    const ResidualSet set{r_i_.data(), flags(), 1, at.valid_i, at.ss_i};
     // Warm start: the scale changes little between the iterations of one problem.
     stats_.sigma_intensity =
         estimate_scale(set, n, options_.weights, stats_.sigma_intensity, *kernels_, options_.threads);
   }
   if (mask.depth) {
-    const ResidualSet set{r_d_.data(), flags_.data(), 2, at.valid_d, at.ss_d};
+    const ResidualSet set{r_d_.data(), flags(), 2, at.valid_d, at.ss_d};
     stats_.sigma_depth = estimate_scale(set, n, options_.weights, stats_.sigma_depth, *kernels_, options_.threads);
   }
   const WeightModel fresh = weight_model(options_.weights, stats_.sigma_intensity, stats_.sigma_depth);

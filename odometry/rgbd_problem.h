@@ -127,7 +127,10 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // Pooled (pooled_floats.h): not initialized beyond the zeroed padding; every pass writes
   // an entry before any pass reads it.
   PooledFloats r_i_, r_d_, gi_u_, gi_v_, gd_u_, gd_v_, w_i_, w_d_;
-  std::vector<std::uint8_t> flags_;
+  // The validity flags, one byte per term, four to a float of a pooled block (a vector of
+  // bytes was faulted in and zeroed afresh for every pair); the warp writes every entry.
+  PooledFloats flag_storage_;
+  std::uint8_t* flags() { return reinterpret_cast<std::uint8_t*>(flag_storage_.data()); }
   ObjectiveMask weights_mask_{false, false};  // objectives whose weights the buffers hold
   WeightModel model_;                          // as of the latest estimate_weights()
   // The latest warp: at which x, for which objectives, and its sums.

@@ -25,22 +25,77 @@ void downsample_rows(const ImageF& fine, ImageF& c, int y0, int y1, Reduce reduc
   }
 }
 
+// Level images of dead pyramids (RgbdPyramid), per thread, at most kMaxSpareImages.
+constexpr std::size_t kMaxSpareImages = 16;
+
+// Set when this thread's spare list is gone (thread exit): pyramids destroyed after it
+// (statics) free their images instead.
+thread_local bool spares_destroyed = false;
+
+struct SpareImages {
+  std::vector<std::vector<float>> images;
+  ~SpareImages() { spares_destroyed = true; }
+};
+
+std::vector<std::vector<float>>& spare_images() {
+  thread_local SpareImages s;
+  return s.images;
+}
+
+// n floats, not initialized when a spare image of at least n entries exists (callers write
+// every entry): the smallest such, cut to n.
+std::vector<float> image_storage(std::size_t n) {
+  std::vector<float> out;
+  if (!spares_destroyed) {
+    std::vector<std::vector<float>>& spares = spare_images();
+    auto best = spares.end();
+    for (auto it = spares.begin(); it != spares.end(); ++it) {
+      if (it->size() >= n && (best == spares.end() || it->size() < best->size())) best = it;
+    }
+    if (best != spares.end()) {
+      out = std::move(*best);
+      spares.erase(best);
+    }
+  }
+  out.resize(n);  // shrinking writes nothing
+  return out;
+}
+
+void recycle_levels(std::vector<RgbdLevel>& levels) {
+  if (spares_destroyed) return;
+  std::vector<std::vector<float>>& spares = spare_images();
+  for (std::size_t l = 1; l < levels.size(); ++l) {
+    for (ImageF* im : {&levels[l].intensity, &levels[l].depth}) {
+      if (im->data.empty() || spares.size() >= kMaxSpareImages) continue;
+      spares.push_back(std::move(im->data));
+    }
+  }
+}
+
 ImageF half_size(const ImageF& fine) {
   ImageF c;
   c.width = fine.width / 2;
   c.height = fine.height / 2;
-  c.data.resize(static_cast<std::size_t>(c.width) * c.height);
+  c.data = image_storage(static_cast<std::size_t>(c.width) * c.height);
   return c;
 }
 
-inline float mean4(float a, float b, float c, float d) { return 0.25f * (a + b + c + d); }
+// Function objects, not functions: downsample_rows<> is then instantiated per reduction and
+// the reduction inlined (through a function pointer it was one indirect call per pixel).
+struct Mean4 {
+  float operator()(float a, float b, float c, float d) const { return 0.25f * (a + b + c + d); }
+};
+constexpr Mean4 mean4{};
 
 // Mean of the valid (> 0) depths only: averaging in a hole would invent a depth.
-inline float mean_valid4(float a, float b, float c, float d) {
-  const float sum = (a > 0.0f ? a : 0.0f) + (b > 0.0f ? b : 0.0f) + (c > 0.0f ? c : 0.0f) + (d > 0.0f ? d : 0.0f);
-  const int count = (a > 0.0f) + (b > 0.0f) + (c > 0.0f) + (d > 0.0f);
-  return count > 0 ? sum / static_cast<float>(count) : 0.0f;
-}
+struct MeanValid4 {
+  float operator()(float a, float b, float c, float d) const {
+    const float sum = (a > 0.0f ? a : 0.0f) + (b > 0.0f ? b : 0.0f) + (c > 0.0f ? c : 0.0f) + (d > 0.0f ? d : 0.0f);
+    const int count = (a > 0.0f) + (b > 0.0f) + (c > 0.0f) + (d > 0.0f);
+    return count > 0 ? sum / static_cast<float>(count) : 0.0f;
+  }
+};
+constexpr MeanValid4 mean_valid4{};
 
 void interleave_rows(const RgbdLevel& L, PooledFloats& out, int y0, int y1) {
   const std::size_t w = static_cast<std::size_t>(L.intensity.width);
@@ -53,6 +108,17 @@ void interleave_rows(const RgbdLevel& L, PooledFloats& out, int y0, int y1) {
 int row_chunks(int rows) { return (rows + kRowsPerChunk - 1) / kRowsPerChunk; }
 
 }  // namespace
+
+RgbdPyramid::~RgbdPyramid() { recycle_levels(levels); }
+
+RgbdPyramid& RgbdPyramid::operator=(RgbdPyramid&& o) noexcept {
+  if (this != &o) {
+    recycle_levels(levels);
+    timestamp = o.timestamp;
+    levels = std::move(o.levels);
+  }
+  return *this;
+}
 
 ImageF downsample_intensity(const ImageF& fine) {
   ImageF c = half_size(fine);

@@ -30,9 +30,20 @@ struct RgbdLevel {
   PooledFloats intensity_depth;
 };
 
+// The images of levels 1.. are recycled: a pyramid that dies hands them to a per-thread
+// spare list and the next build_pyramid() on that thread takes them back (same sizes: no
+// page faults, no zero-fill; ~10 % of a 320x240 pair's CPU time before). Level 0 holds the
+// decoded frame's arrays and is freed as usual.
 struct RgbdPyramid {
   double timestamp = 0.0;
   std::vector<RgbdLevel> levels;  // [0] = full resolution
+
+  RgbdPyramid() = default;
+  ~RgbdPyramid();
+  RgbdPyramid(RgbdPyramid&& o) noexcept = default;
+  RgbdPyramid& operator=(RgbdPyramid&& o) noexcept;
+  RgbdPyramid(const RgbdPyramid&) = delete;
+  RgbdPyramid& operator=(const RgbdPyramid&) = delete;
 };
 
 ImageF downsample_intensity(const ImageF& fine);

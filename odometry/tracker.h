@@ -155,8 +155,10 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair = {});
 
-// One preprocessed frame: its pyramid and full-resolution statistics. An rvalue image is
-// moved into the pyramid; levels finer than finest_level are not interleaved (build_pyramid).
+// One preprocessed frame: its pyramid and full-resolution statistics (without the medians,
+// which estimate_motion() and FramePair::lambda() add when the method reads them). An rvalue
+// image is moved into the pyramid; levels finer than finest_level are not interleaved
+// (build_pyramid).
 struct PreparedFrame {
   RgbdPyramid pyramid;
   FrameStatistics statistics;

@@ -17,6 +17,8 @@ PACKAGES=(
   libcli11-dev
   nlohmann-json3-dev
   libpng-dev
+  # Threads of the odometry's per-pixel passes (odometry/parallel_chunks.h).
+  libtbb-dev
   python3-numpy
   python3-matplotlib
   # Sharded studies (docs/scaling.md): GNU Parallel, and Slurm + munge for the test that
@@ -26,10 +28,9 @@ PACKAGES=(
   munge
 )
 # clang for the sanitizer build (ASan + UBSan) and the libFuzzer targets (`make sanitize`,
-# `make fuzz`, CI's `make fuzz-ci`); clang's OpenMP runtime, which CMake's find_package(OpenMP)
-# needs to configure with clang (without recommends, clang does not bring it).
+# `make fuzz`, CI's `make fuzz-ci`).
 if [ "${1:-}" = "--sanitizer" ]; then
-  PACKAGES+=(clang libclang-rt-14-dev libomp-14-dev)
+  PACKAGES+=(clang libclang-rt-14-dev)
 fi
 
 missing_in() {

@@ -1,10 +1,12 @@
 // The tracker on real TUM frame pairs: every method recovers the ground-truth relative
 // motion; sequences stream end to end; degenerate levels fall back to the motion prior;
 // option errors list the valid choices.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -125,6 +127,52 @@ TEST(Tracker, LevelsWithoutDepthFallBackToTheMotionPrior) {
     EXPECT_LT((r.T_21.matrix() - prior.matrix()).norm(), 1e-12);
     EXPECT_NE(r.note.find("motion prior"), std::string::npos) << r.note;
     for (const auto& level : r.levels) EXPECT_TRUE(level.skipped);
+  }
+}
+
+// The medians are computed on demand, only for the method that reads them (tykkala): a
+// prepared frame has none, and tykkala's lambda is the one of the exact medians (oracle:
+// sorting the values, numpy's convention for an even count).
+TEST(Tracker, TykkalaLambdaFromMediansComputedOnDemand) {
+  RgbdImage im;
+  im.width = 64;
+  im.height = 48;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      im.intensity.push_back(static_cast<float>((x * 7 + y * 13) % 97) + 0.25f * static_cast<float>(x % 3));
+      im.depth.push_back((x + y) % 5 == 0 ? 0.0f : 0.8f + 0.01f * static_cast<float>((x * 3 + y) % 41));
+    }
+  }
+  const auto exact_median = [](std::vector<float> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? double(v[n / 2]) : 0.5 * (double(v[n / 2 - 1]) + v[n / 2]);
+  };
+  std::vector<float> valid_depth;
+  for (float d : im.depth) {
+    if (d > 0.0f) valid_depth.push_back(d);
+  }
+  const double mi = exact_median(im.intensity), md = exact_median(valid_depth);
+  const PreparedFrame a = prepare_frame(im, Intrinsics{}, 3), b = prepare_frame(im, Intrinsics{}, 3);
+  EXPECT_FALSE(a.statistics.has_medians);
+  EXPECT_THROW(tykkala_lambda(a.statistics), Error);
+  FrameStatistics s = a.statistics;
+  add_medians(s, a.pyramid.levels[0]);
+  EXPECT_TRUE(s.has_medians);
+  EXPECT_EQ(s.median_intensity, mi);
+  EXPECT_EQ(s.median_depth, md);
+  TrackerOptions o;
+  o.levels = 3;
+  o.method = "tykkala";
+  const PairResult r = estimate_motion(a, b, Eigen::Isometry3d::Identity(), o);
+  EXPECT_TRUE(r.valid) << r.note;
+  EXPECT_NEAR(r.lambda, (mi / md) * (mi / md), 1e-12 * (mi / md) * (mi / md));
+  EXPECT_EQ(r.lambda, tykkala_lambda(s));
+  EXPECT_TRUE(reads_medians(Method::kTykkala));
+  for (const std::string& method : method_names()) {
+    if (method != "tykkala") {
+      EXPECT_FALSE(reads_medians(parse_method(method))) << method;
+    }
   }
 }
 
