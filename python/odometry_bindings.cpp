@@ -12,6 +12,7 @@
 
 #include "experiments/tracker_config.h"
 #include "odometry/io/trajectory.h"
+#include "odometry/io/tum_dataset.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/tracker.h"
 #include "python/bindings.h"
@@ -133,6 +134,34 @@ void bind_odometry(py::module_& m) {
         return r;
       }, py::arg("initial") = py::none(),
          "Coarse-to-fine estimate of T_21 from `initial` (identity); keyword arguments replace the pair's options.");
+
+  om.def("open_sequence", [](const std::string& path, double max_association_dt) {
+    io::SequenceOptions so;
+    so.max_association_dt = max_association_dt;
+    const io::TumSequence seq = io::open_tum_sequence(path, so);
+    py::dict d;
+    d["name"] = seq.name;
+    d["directory"] = seq.directory;
+    d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
+                               py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
+    Eigen::VectorXd t(seq.frames.size());
+    py::list rgb, depth;
+    for (std::size_t i = 0; i < seq.frames.size(); ++i) {
+      t(static_cast<Eigen::Index>(i)) = seq.frames[i].rgb_time;
+      rgb.append(seq.frames[i].rgb_path);
+      depth.append(seq.frames[i].depth_path);
+    }
+    d["timestamps"] = t, d["rgb"] = rgb, d["depth"] = depth;
+    if (seq.groundtruth) {
+      Eigen::VectorXd gt(seq.groundtruth->size());
+      for (std::size_t i = 0; i < seq.groundtruth->size(); ++i) gt(static_cast<Eigen::Index>(i)) = (*seq.groundtruth)[i].timestamp;
+      d["groundtruth"] = py::make_tuple(gt, poses(*seq.groundtruth));
+    } else {
+      d["groundtruth"] = py::none();
+    }
+    return d;
+  }, py::arg("path"), py::arg("max_association_dt") = 0.02,
+     "A TUM sequence's frames (rgb timestamps and file paths), intrinsics and ground truth (timestamps, poses) or None.");
 
   om.def("load_frame_pair", [](const std::string& path, int reference, int current, const py::kwargs& kwargs) {
     PyFramePair p;

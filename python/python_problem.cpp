@@ -76,17 +76,7 @@ solvers::ResidualData PythonProblem::residuals(int j, const Eigen::VectorXd& x, 
 }
 
 solvers::Linearization PythonProblem::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) {
-  solvers::ScopedPhase phase(options.profile, "residuals");
-  solvers::Linearization lin;
-  solvers::ResidualData d1 = residuals(1, x, true);
-  solvers::ResidualData d2 = residuals(2, x, true);
-  lin.f1 = solvers::quadratic_model_of(d1);
-  lin.f2 = solvers::quadratic_model_of(d2);
-  if (options.want_full) {
-    lin.full1 = std::move(d1);
-    lin.full2 = std::move(d2);
-  }
-  return lin;
+  return solvers::linearize_from_residuals(*this, x, options);
 }
 
 std::array<double, 2> PythonProblem::evaluate(const Eigen::VectorXd& x) {

@@ -61,6 +61,17 @@ def test_bad_options_and_paths_raise_bivo_errors(synthetic_sequence, tmp_path):
         bivo.odometry.load_frame_pair(synthetic_sequence, 0, 1).estimate(np.zeros(6))
 
 
+def test_open_sequence_lists_frames_and_ground_truth(synthetic_sequence):
+    seq = bivo.odometry.open_sequence(synthetic_sequence)
+    assert len(seq["timestamps"]) == 4 and len(seq["rgb"]) == 4
+    t, poses = seq["groundtruth"]
+    assert poses.shape == (len(t), 7)
+    assert seq["intrinsics"]["fx"] > 0
+    track = bivo.track(synthetic_sequence, max_frames=2)
+    assert_same(track.timestamps, seq["timestamps"][:2], 0.0)
+    assert_same(track.poses[0], poses[0], 1e-9)  # the first pose starts at the ground truth
+
+
 def test_tracker_options_are_the_config_file_keys():
     o = bivo.odometry.tracker_options(method="bounded", policy={"eps": 2e-4})
     assert o["method"] == "bounded" and o["policy"]["eps"] == 2e-4
