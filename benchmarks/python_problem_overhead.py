@@ -6,7 +6,7 @@ the C++ problems.LinearLeastSquaresPair and once as a bivo.Problem subclass whos
 jacobian / weights are numpy one-liners, solved by several backends from the same start: the
 solutions agree (checked), the time per solve and per Python callback is printed. Then the
 GIL: two threads solving C++ problems run in parallel (solve() releases the GIL), two
-threads solving Python problems mostly take turns.
+threads solving Python problems take turns in the callbacks.
 
     PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_problem_overhead.py [--repeat 20]
 Not a test: run it on an otherwise idle machine.

@@ -110,3 +110,33 @@ def test_options_reach_the_solver():
     s = bivo.solve(problem, bivo.WeightedSum(1.0), "gn", x0, bivo.SolverOptions(max_iterations=2))
     assert s.iterations == 2 and s.termination == "iteration budget"
     assert not s.converged
+
+
+def test_solve_releases_the_gil():
+    """While a C++ problem is solved in another thread, this thread keeps running Python
+    inside the solve's time span: with the GIL held it could run only between solves."""
+    import threading
+    import time
+    rng = np.random.default_rng(1)
+    m = 30000
+    problem = LinearLeastSquaresPair("large", rng.normal(size=(m, 6)), rng.normal(size=m), np.ones(m),
+                                     rng.normal(size=(m, 6)), rng.normal(size=m), np.ones(m))
+    spans, done = [], threading.Event()
+
+    def solve():
+        for _ in range(3):
+            t0 = time.perf_counter()
+            bivo.solve(problem, bivo.WeightedSum(1.0), "ceres", np.zeros(6))
+            spans.append((t0, time.perf_counter()))
+        done.set()
+
+    t = threading.Thread(target=solve)
+    samples = []
+    t.start()
+    while not done.is_set():
+        samples.append(time.perf_counter())
+    t.join()
+    samples = np.array(samples)
+    for t0, t1 in spans:  # the middle half of each solve (tens of ms) holds steps of this thread
+        q = 0.25 * (t1 - t0)
+        assert np.count_nonzero((samples > t0 + q) & (samples < t1 - q)) > 0, (t0, t1)
