@@ -1,6 +1,6 @@
 # ctest install_package: `cmake --install` into a temporary prefix, then examples/cpp built
 # against it with find_package(bivo) and run, and the installed Python module imported.
-# -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D PYTHON=...
+# -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D PYTHON=... -D CXX=... -D CXX_FLAGS=... -D LINKER_FLAGS=...
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run)
@@ -17,7 +17,8 @@ foreach(f bin/bivo lib/cmake/bivo/bivoConfig.cmake include/bivo/solvers/outer_lo
   endif()
 endforeach()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/cpp -B ${WORK_DIR}/example -G Ninja -DCMAKE_BUILD_TYPE=Release
-    -DCMAKE_PREFIX_PATH=${prefix})
+    -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
+    "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}")
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/example)
 run(${WORK_DIR}/example/pareto_example)
 if(NOT last_output MATCHES "knee [0-9]+ of 7 points")
