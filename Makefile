@@ -16,7 +16,8 @@ FUZZ_CI_SECONDS ?= 20
 SAN_CTEST_ARGS ?=
 # One clang build serves the sanitized test suite, the fuzz targets and the portability
 # check: -O1 keeps it fast to build and run, asserts stay on (Eigen's bounds checks),
-# warnings are errors, benchmarks are left out.
+# warnings are errors, benchmarks are left out, and so is the Python module (an ASan-built
+# extension cannot be imported by the uninstrumented interpreter).
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -fsanitize=fuzzer-no-link
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -26,7 +27,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_re
 san_configure = cmake -S . -B $(1) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
 	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
+	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_PYTHON=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
 
 .PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz fuzz-ci
 

@@ -76,23 +76,7 @@ std::array<double, 2> ExponentialDecayPair::evaluate(const Eigen::VectorXd& x) {
 }
 
 solvers::Linearization ExponentialDecayPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) {
-  solvers::ResidualData d1, d2;
-  {
-    solvers::ScopedPhase phase(options.profile, "residuals");
-    d1 = residuals_of(1, x, true);
-    d2 = residuals_of(2, x, true);
-  }
-  solvers::Linearization lin;
-  {
-    solvers::ScopedPhase phase(options.profile, "normal_equations");
-    lin.f1 = solvers::quadratic_model_of(d1);
-    lin.f2 = solvers::quadratic_model_of(d2);
-  }
-  if (options.want_full) {
-    lin.full1 = std::move(d1);
-    lin.full2 = std::move(d2);
-  }
-  return lin;
+  return solvers::linearize_from_residuals(*this, x, options);
 }
 
 // g'(k) for g(k) = min_{c1,c2} F_1 + lambda F_2 (envelope theorem: only the explicit k

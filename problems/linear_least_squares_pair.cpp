@@ -139,23 +139,7 @@ solvers::ResidualData LinearLeastSquaresPair::residuals(int j, const Eigen::Vect
 
 solvers::Linearization LinearLeastSquaresPair::linearize(const Eigen::VectorXd& x,
                                                          const solvers::LinearizeOptions& options) {
-  solvers::Linearization lin;
-  solvers::ResidualData d1, d2;
-  {
-    solvers::ScopedPhase phase(options.profile, "residuals");
-    d1 = residuals(1, x, true);
-    d2 = residuals(2, x, true);
-  }
-  {
-    solvers::ScopedPhase phase(options.profile, "normal_equations");
-    lin.f1 = solvers::quadratic_model_of(d1);
-    lin.f2 = solvers::quadratic_model_of(d2);
-  }
-  if (options.want_full) {
-    lin.full1 = std::move(d1);
-    lin.full2 = std::move(d2);
-  }
-  return lin;
+  return solvers::linearize_from_residuals(*this, x, options);
 }
 
 Eigen::VectorXd LinearLeastSquaresPair::stacked_solve(double weight1, double weight2) const {

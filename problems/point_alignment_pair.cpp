@@ -49,11 +49,8 @@ solvers::ResidualData PointAlignmentPair::residuals(int j, const Eigen::VectorXd
   return d;
 }
 
-solvers::Linearization PointAlignmentPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions&) {
-  solvers::Linearization lin;
-  lin.f1 = solvers::quadratic_model_of(residuals(1, x, true));
-  lin.f2 = solvers::quadratic_model_of(residuals(2, x, true));
-  return lin;
+solvers::Linearization PointAlignmentPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) {
+  return solvers::linearize_from_residuals(*this, x, options);
 }
 
 std::array<double, 2> PointAlignmentPair::evaluate(const Eigen::VectorXd& x) {

@@ -21,6 +21,11 @@ PACKAGES=(
   libtbb-dev
   python3-numpy
   python3-matplotlib
+  # The Python module (python/, docs/python.md) and its tests: pybind11 with its headers,
+  # Python's headers, pytest, and scipy (sparse matrices for bivo.solve_conic, a reference LP).
+  pybind11-dev python3-pybind11 python3-dev
+  python3-pytest
+  python3-scipy
   # Sharded studies (docs/scaling.md): GNU Parallel, and Slurm + munge for the test that
   # brings up a single-node cluster on localhost.
   parallel

@@ -118,6 +118,7 @@ class RecordingCallback final : public ceres::IterationCallback {
     rec.accepted = s.step_is_successful;
     rec.inner_iterations = s.linear_solver_iterations;
     rec.seconds = s.iteration_time_in_seconds;
+    rec.x = Eigen::Map<const Eigen::VectorXd>(x_, n_);
     summary_.records.push_back(rec);
     if (verbosity_ > 0) {
       std::fprintf(stderr, "bivo ceres it %3d F1 %.6e F2 %.6e |d| %.3e %s\n", rec.iteration, rec.f1, rec.f2,

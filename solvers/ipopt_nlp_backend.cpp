@@ -243,6 +243,7 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       rec.feasible = !infeasible;
       rec.inner_iterations = used;
       rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_round).count();
+      rec.x = x;
       summary.records.push_back(rec);
       if (options.verbosity > 0) {
         std::fprintf(stderr, "bivo ipopt-nlp round %2d F1 %.6e F2 %.6e mu %.4e |d| %.3e ipopt %s (%d it)\n",

@@ -118,6 +118,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       rec.f1 = f[0];
       rec.f2 = f[1];
       rec.seconds = seconds_since(t_iter);
+      rec.x = x;
       summary.records.push_back(rec);
       break;
     }
@@ -133,6 +134,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
         rec.f1 = f[0];
         rec.f2 = f[1];
         rec.seconds = seconds_since(t_iter);
+        rec.x = x;
         summary.records.push_back(rec);
         break;
       }
@@ -150,6 +152,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       rec.f1 = f[0];
       rec.f2 = f[1];
       rec.seconds = seconds_since(t_iter);
+      rec.x = x;
       summary.records.push_back(rec);
       break;
     }
@@ -199,6 +202,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       }
     }
     rec.seconds = seconds_since(t_iter);
+    rec.x = x;
     summary.records.push_back(rec);
     if (options.verbosity > 0) {
       std::fprintf(stderr, "bivo %s it %3d F1 %.6e F2 %.6e mult %.4e |d| %.3e %s%s\n", backend.name().c_str(), it,

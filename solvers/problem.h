@@ -70,4 +70,10 @@ class BiObjectiveProblem {
   virtual ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) = 0;
 };
 
+// linearize() of a problem that forms r_j and J_j explicitly: both models from
+// problem.residuals(j, x, true) by quadratic_model_of, the full data kept when
+// options.want_full, the time recorded as "residuals" and "normal_equations".
+Linearization linearize_from_residuals(BiObjectiveProblem& problem, const Eigen::VectorXd& x,
+                                       const LinearizeOptions& options);
+
 }  // namespace bivo::solvers

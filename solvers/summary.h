@@ -53,6 +53,8 @@ struct IterationRecord {
   bool feasible = true;      // the step backend's feasibility flag
   int inner_iterations = 0;  // the backend's own iterations for this step
   double seconds = 0.0;      // wall time of the whole iteration
+  Eigen::VectorXd x;         // the iterate after this iteration (ambient form; unchanged
+                             // when the step was rejected): the Python summary's `iterates`
 };
 
 struct Summary {

@@ -9,6 +9,8 @@
      odometry (the instance)                -> odometry, odometry/io, solvers
      experiments (engines)                  -> experiments, odometry/*, problems, solvers
      experiments/cli                        -> experiments/cli, experiments, odometry/*, problems, solvers
+     python (the bindings)                  -> python, experiments, odometry/*, problems, solvers
+   (nothing includes python/: the bindings are the top layer),
    and the engines never include CLI11 (only the front ends parse flags).
 2. The namespace of a layer's files follows its folder (bivo::odometry::io, ...); plain
    `bivo` holds only the project-wide error type.
@@ -31,9 +33,11 @@ LAYERS = [
     ("odometry", ["odometry/", "solvers/"], "bivo::odometry"),
     ("experiments", ["experiments/", "odometry/", "problems/", "solvers/"], "bivo::experiments"),
     ("experiments/cli", ["experiments/", "odometry/", "problems/", "solvers/"], "bivo::experiments::cli"),
+    ("python", ["python/", "experiments/", "odometry/", "problems/", "solvers/"], "bivo::python"),
 ]
 SOURCE_SUFFIXES = {".h", ".cpp", ".py", ".sh"}
-SOURCE_FOLDERS = ["solvers", "problems", "odometry", "experiments", "tests", "benchmarks", "scripts"]
+SOURCE_FOLDERS = ["solvers", "problems", "odometry", "experiments", "python", "tests", "benchmarks", "scripts",
+                  "examples"]
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]')
 NAMESPACE = re.compile(r"^namespace\s+([A-Za-z_][\w:]*)\s*\{")
 
@@ -74,7 +78,7 @@ def check(root):
             m = INCLUDE.match(line)
             if m:
                 target = m.group(1)
-                ours = target.split("/")[0] in ("solvers", "problems", "odometry", "experiments")
+                ours = target.split("/")[0] in ("solvers", "problems", "odometry", "experiments", "python")
                 if ours and not include_allowed(folder, allowed, target):
                     problems.append(f"{rel}:{no}: includes {target}, which layer {folder}/ may not use")
                 if folder == "experiments" and target.startswith("CLI/"):
@@ -100,13 +104,14 @@ def self_test():
             "odometry/synth/d.cpp": "namespace bivo::odometry {\n}\n",
             "solvers/e.cpp": "\n" * (MAX_LINES + 1),
             "odometry/f.cpp": '#include "odometry/io/png_io.h"\n#include "solvers/se3.h"\n',  # fine
+            "experiments/g.cpp": '#include "python/bindings.h"\n',
         }
         for rel, text in bad.items():
             (root / rel).parent.mkdir(parents=True, exist_ok=True)
             (root / rel).write_text(text)
         _, problems = check(root)
         expected = ["odometry/io/a.h:1", "odometry/b.cpp:1", "experiments/c.cpp:1", "odometry/synth/d.cpp:1",
-                    "solvers/e.cpp:"]
+                    "solvers/e.cpp:", "experiments/g.cpp:1"]
         missing = [e for e in expected if not any(p.startswith(e) for p in problems)]
         extra = [p for p in problems if p.startswith("odometry/f.cpp")]
         if missing or extra or len(problems) != len(expected):

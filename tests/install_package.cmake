@@ -1,0 +1,37 @@
+# ctest install_package: `cmake --install` into a temporary prefix, then examples/cpp built
+# against it with find_package(bivo) and run, and the installed Python module imported.
+# -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D PYTHON=... -D CXX=... -D CXX_FLAGS=... -D LINKER_FLAGS=...
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+foreach(f bin/bivo lib/cmake/bivo/bivoConfig.cmake include/bivo/solvers/outer_loop.h include/bivo/odometry/tracker.h)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/cpp -B ${WORK_DIR}/example -G Ninja -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_CXX_COMPILER=${CXX}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
+    "-DCMAKE_EXE_LINKER_FLAGS=${LINKER_FLAGS}")
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/example)
+run(${WORK_DIR}/example/pareto_example)
+if(NOT last_output MATCHES "knee [0-9]+ of 7 points")
+  message(FATAL_ERROR "unexpected output of pareto_example:\n${last_output}")
+endif()
+run(${prefix}/bin/bivo --help)
+if(PYTHON)
+  # (no semicolons: they would split the argument list)
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${prefix}/lib/python3/dist-packages ${PYTHON} -c
+      "import bivo\nprint(bivo.__file__ if 'gn' in [b['name'] for b in bivo.backends()] else 'no backends')")
+  if(NOT last_output MATCHES "^${prefix}")
+    message(FATAL_ERROR "imported bivo from ${last_output}, not from the install prefix")
+  endif()
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
+message(STATUS "install_package: installed, example built and run, Python module imported")
