@@ -131,6 +131,23 @@ void RgbdOdometryProblem::set_kernel_isa(KernelIsa isa) {
   last_linearization_.reset();
 }
 
+void RgbdOdometryProblem::set_jacobian(JacobianKind kind) {
+  if (kind == JacobianKind::kMethodDefault) {
+    throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
+  }
+  if (kind != JacobianKind::kForward && reference_terms_.gi_u.size() == 0 && reference_terms_.count > 0) {
+    throw Error(std::string("RGB-D problem: Jacobian kind '") + to_string(kind) +
+                "' needs the reference-side gradients, which a problem built with forward Jacobians does not have");
+  }
+  options_.jacobian = kind;
+  gradients_ = kind == JacobianKind::kForward   ? GradientSource::kCurrent
+               : kind == JacobianKind::kInverse ? GradientSource::kReference
+                                                : GradientSource::kAverage;
+  warp_x_.resize(0);  // the cached warp holds gradients of the previous kind
+  f_at_warp_.reset();
+  last_linearization_.reset();
+}
+
 void RgbdOdometryProblem::check_x(const Eigen::VectorXd& x) const {
   if (x.size() != 7) throw Error("RGB-D problem: x must be the 7-vector [t; q], got size " + std::to_string(x.size()));
   if (!x.allFinite()) throw Error("RGB-D problem: x contains NaN or Inf");

@@ -99,6 +99,11 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // The instruction set of the float kernels (default: the best this CPU runs).
   KernelIsa kernel_isa() const { return kernels_->isa; }
   void set_kernel_isa(KernelIsa isa);
+  // Switches the image gradients of later linearizations (the weights and scales estimated so
+  // far are kept): the tracker's exact finish goes from inverse / esm to forward. Reference
+  // gradients exist only when the problem was built with a non-forward kind; asking for them
+  // otherwise throws bivo::Error.
+  void set_jacobian(JacobianKind kind);
 
  private:
   ObjectiveMask modelled() const;

@@ -2,11 +2,11 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -127,6 +127,9 @@ void validate(const TrackerOptions& options) {
   if (options.finest_level < 0 || options.finest_level >= options.levels) {
     throw Error("finest level must be in 0.." + std::to_string(options.levels - 1) + ", got " +
                 std::to_string(options.finest_level));
+  }
+  if (options.exact_finish_iterations < 0) {
+    throw Error("exact finish iterations must be >= 0 (0: off), got " + std::to_string(options.exact_finish_iterations));
   }
   if (options.max_iterations < 1) {
     throw Error("max iterations per level must be >= 1, got " + std::to_string(options.max_iterations));
@@ -293,26 +296,22 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     solvers::Summary summary = solve_level(problem);
     // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
     // point is not the cost's stationary point; the exact finish continues the finest level
-    // from there with current-side gradients (TrackerOptions::exact_finish).
-    std::optional<RgbdOdometryProblem> exact;
-    RgbdOdometryProblem* solved = &problem;
-    if (options.exact_finish && level == options.finest_level && problem_options.jacobian != JacobianKind::kForward &&
+    // from there with current-side gradients (TrackerOptions::exact_finish_iterations).
+    if (options.exact_finish_iterations > 0 && level == options.finest_level && problem_options.jacobian != JacobianKind::kForward &&
         x.allFinite()) {
-      RgbdProblemOptions exact_options = problem_options;
-      exact_options.jacobian = JacobianKind::kForward;
-      const auto t_exact = Clock::now();
-      exact.emplace(reference.pyramid.levels[level], current.pyramid.levels[level], exact_options);
-      result.profile.add("reference", seconds_since(t_exact));
       const int first_iterations = summary.iterations;
-      summary = solve_level(*exact);
+      problem.set_jacobian(JacobianKind::kForward);  // weights and scales carried over
+      const int level_iterations = solver_options.max_iterations;
+      solver_options.max_iterations = std::min(level_iterations, options.exact_finish_iterations);
+      summary = solve_level(problem);
+      solver_options.max_iterations = level_iterations;
       summary.iterations += first_iterations;
-      solved = &*exact;
     }
     if (lr.relaxed) {
       ++result.relaxed_levels;
       result.note += "level " + std::to_string(level) + " bound relaxed; ";
     }
-    const RgbdLinearizationStats& stats = solved->last_stats();
+    const RgbdLinearizationStats& stats = problem.last_stats();
     lr.valid_intensity = stats.valid_intensity;
     lr.valid_depth = stats.valid_depth;
     lr.iterations = summary.iterations;
@@ -331,7 +330,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.f_d = problem_options.depth_first ? summary.final_f1 : summary.final_f2;
     if (one_objective) {
       if (options.evaluate_unused_objective) {
-        const std::array<double, 2> f = solved->objectives_at(x, &result.profile);
+        const std::array<double, 2> f = problem.objectives_at(x, &result.profile);
         (problem_options.depth_first ? lr.f_i : lr.f_d) = f[problem_options.depth_first ? 0 : 1];
       } else {
         (problem_options.depth_first ? lr.f_i : lr.f_d) = kNotEvaluated;

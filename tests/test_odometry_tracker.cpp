@@ -282,9 +282,9 @@ TEST(Tracker, ExactFinishEndsAtAFixedPointOfExactGaussNewton) {
     return pose_error(estimate_motion(ref0, cur0, from, one).T_21, from);
   };
   TrackerOptions inverse_only = o;
-  inverse_only.exact_finish = false;
+  inverse_only.exact_finish_iterations = 0;
   TrackerOptions finished = o;
-  finished.exact_finish = true;
+  finished.exact_finish_iterations = o.max_iterations;
   const PairResult r_inverse = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), inverse_only);
   const PairResult r_finished = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), finished);
   const PoseError s_inverse = exact_step(r_inverse.T_21), s_finished = exact_step(r_finished.T_21);

@@ -32,7 +32,7 @@ TrackerOptions unusual_options() {
   o.step_tolerance = 0.1 + 0.2;
   o.relative_decrease_tolerance = 1.0 / 3.0;
   o.pixel_motion_tolerance = 0.1 + 0.7;
-  o.exact_finish = false;  // not the default
+  o.exact_finish_iterations = 3;  // not the default
   o.evaluate_unused_objective = true;
   o.min_valid_pixels = 123;
   o.max_association_dt = 0.015;
@@ -90,7 +90,7 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.step_tolerance, o.step_tolerance);
   EXPECT_EQ(back.relative_decrease_tolerance, o.relative_decrease_tolerance);
   EXPECT_EQ(back.pixel_motion_tolerance, o.pixel_motion_tolerance);
-  EXPECT_EQ(back.exact_finish, o.exact_finish);
+  EXPECT_EQ(back.exact_finish_iterations, o.exact_finish_iterations);
   EXPECT_EQ(back.evaluate_unused_objective, o.evaluate_unused_objective);
   EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);
   EXPECT_EQ(back.max_association_dt, o.max_association_dt);

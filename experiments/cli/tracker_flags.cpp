@@ -76,9 +76,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
   add<double>("--pixel-motion-tolerance",
               "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
               d.pixel_motion_tolerance, [](TrackerOptions& o, const double& v) { o.pixel_motion_tolerance = v; });
-  add<bool>("--exact-finish",
-            "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients (true/false)",
-            d.exact_finish, [](TrackerOptions& o, const bool& v) { o.exact_finish = v; });
+  add<int>("--exact-finish-iterations",
+           "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at most N "
+           "iterations (0: off)",
+           d.exact_finish_iterations, [](TrackerOptions& o, const int& v) { o.exact_finish_iterations = v; });
   add<bool>("--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end (true/false)",
             d.evaluate_unused_objective,
