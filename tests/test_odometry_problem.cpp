@@ -214,3 +214,32 @@ TEST(RgbdProblem, BadInputIsRejected) {
   EXPECT_THROW(ok.linearize(x, {}), Error);
   EXPECT_THROW(ok.residuals(3, Eigen::VectorXd::Unit(7, 6), false), Error);
 }
+
+// The tracker's exact finish switches a problem built with reference-side gradients to the
+// current-side ones: its linearization must then be that of a problem built forward (a second
+// construction as the oracle), and a forward-built problem has no reference gradients to
+// switch to.
+TEST(RgbdProblem, SwitchingToForwardGradientsEqualsAForwardProblem) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const Pair p = load_pair("rgbd_dataset_freiburg1_desk", 0, 2, 2);
+  RgbdProblemOptions inverse_options;
+  inverse_options.jacobian = JacobianKind::kInverse;
+  RgbdOdometryProblem switched(p.reference.levels[1], p.current.levels[1], inverse_options);
+  RgbdOdometryProblem forward(p.reference.levels[1], p.current.levels[1]);
+  se3::Vector6d off;
+  off << 0.01, -0.005, 0.0, 0.002, 0.004, 0.0;
+  const Eigen::VectorXd x = se3::to_ambient(se3::exp(off) * p.truth);
+  const auto before = switched.linearize(x, {});
+  switched.set_jacobian(JacobianKind::kForward);
+  const auto after = switched.linearize(x, {});
+  const auto oracle = forward.linearize(x, {});
+  // Reference-side gradients give a different model at a pose off the optimum ...
+  EXPECT_GT((before.f1.H - oracle.f1.H).norm(), 1e-3 * oracle.f1.H.norm());
+  // ... the switched problem gives the forward one (same weights: both estimated at x).
+  EXPECT_LT((after.f1.H - oracle.f1.H).norm(), 1e-9 * oracle.f1.H.norm());
+  EXPECT_LT((after.f1.b - oracle.f1.b).norm(), 1e-9 * oracle.f1.b.norm());
+  EXPECT_LT((after.f2.H - oracle.f2.H).norm(), 1e-9 * oracle.f2.H.norm());
+  EXPECT_NEAR(after.f1.a, oracle.f1.a, 1e-9 * oracle.f1.a);
+  EXPECT_THROW(forward.set_jacobian(JacobianKind::kInverse), Error);
+  EXPECT_THROW(forward.set_jacobian(JacobianKind::kMethodDefault), Error);
+}
