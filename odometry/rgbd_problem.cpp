@@ -12,6 +12,13 @@
 namespace bivo::odometry {
 namespace {
 
+// Where a Jacobian kind takes its image gradients from (kMethodDefault is resolved earlier).
+GradientSource gradient_source(JacobianKind kind) {
+  return kind == JacobianKind::kForward   ? GradientSource::kCurrent
+         : kind == JacobianKind::kInverse ? GradientSource::kReference
+                                          : GradientSource::kAverage;
+}
+
 namespace se3 = solvers::se3;
 
 ObjectiveMask both() { return {true, true}; }
@@ -96,9 +103,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   if (options_.jacobian == JacobianKind::kMethodDefault) {
     throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
   }
-  gradients_ = options_.jacobian == JacobianKind::kForward   ? GradientSource::kCurrent
-               : options_.jacobian == JacobianKind::kInverse ? GradientSource::kReference
-                                                             : GradientSource::kAverage;
+  gradients_ = gradient_source(options_.jacobian);
   // Everything that does not depend on the pose, once per (pair, level): the iterations then
   // only transform, project, interpolate and accumulate.
   reference_terms_ = make_reference_terms(reference, options_.min_depth, options_.max_depth,
@@ -140,9 +145,7 @@ void RgbdOdometryProblem::set_jacobian(JacobianKind kind) {
                 "' needs the reference-side gradients, which a problem built with forward Jacobians does not have");
   }
   options_.jacobian = kind;
-  gradients_ = kind == JacobianKind::kForward   ? GradientSource::kCurrent
-               : kind == JacobianKind::kInverse ? GradientSource::kReference
-                                                : GradientSource::kAverage;
+  gradients_ = gradient_source(kind);
   warp_x_.resize(0);  // the cached warp holds gradients of the previous kind
   f_at_warp_.reset();
   last_linearization_.reset();
