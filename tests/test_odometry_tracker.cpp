@@ -196,6 +196,11 @@ TEST(Tracker, BadOptionsListTheValidChoices) {
   o.method = "fixed";
   o.policy.lambda = -1.0;
   EXPECT_THROW(validate(o), Error);
+  o = TrackerOptions{};
+  o.exact_finish_iterations = -1;
+  msg = error_of([&] { validate(o); });
+  EXPECT_NE(msg.find("exact finish iterations must be >= 0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("-1"), std::string::npos) << msg;
   EXPECT_EQ(default_backend(Method::kBounded), "exact");
   EXPECT_EQ(default_backend(Method::kWeighted), "gn");
   EXPECT_THROW(track_sequence("/no/such/sequence", TrackerOptions{}), Error);
