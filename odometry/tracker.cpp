@@ -258,27 +258,27 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     }
     const Eigen::VectorXd x_before = x;
     double level_lambda = lambda;
-    // The level's solve on one problem (the method's scalarization from x); fills the
-    // method-specific parts of lr.
-    const auto solve_level = [&](RgbdOdometryProblem& on) {
+    // The level's solve (the method's scalarization from x); fills the method-specific parts
+    // of lr. Run once, and again for the exact finish.
+    const auto solve_level = [&]() {
       if (options.pixel_motion_tolerance > 0.0) {
-        solver_options.step_measure = [&on](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
-          return on.pixel_motion(at, delta);
+        solver_options.step_measure = [&problem](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
+          return problem.pixel_motion(at, delta);
         };
         solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
       }
       const auto run = [&](const solvers::Scalarization& scalarization) {
-        return whole_problem ? solvers::solve(on, scalarization, backend_name, x, solver_options)
-                             : solvers::solve(on, scalarization, *step_backend, x, solver_options);
+        return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, solver_options)
+                             : solvers::solve(problem, scalarization, *step_backend, x, solver_options);
       };
-      RgbdOdometryProblem* p = &on;
+      RgbdOdometryProblem* p = &problem;
       if (method == Method::kBounded) {
         // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
         return run(solvers::EpsilonConstraint(
             [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; }));
       }
       if (method == Method::kNoiseBounded) {
-        const NoiseBoundedLevel nb = solve_noise_bounded(on, options.policy, run, solver_options, x);
+        const NoiseBoundedLevel nb = solve_noise_bounded(problem, options.policy, run, solver_options, x);
         lr.relaxed = nb.relaxed;
         lr.guard_rise = nb.rise;
         result.epsilon_per_weight = nb.eps_bar;
@@ -293,17 +293,17 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       }
       return run(solvers::WeightedSum(lambda));
     };
-    solvers::Summary summary = solve_level(problem);
+    solvers::Summary summary = solve_level();
     // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
     // point is not the cost's stationary point; the exact finish continues the finest level
     // from there with current-side gradients (TrackerOptions::exact_finish_iterations).
-    if (options.exact_finish_iterations > 0 && level == options.finest_level && problem_options.jacobian != JacobianKind::kForward &&
-        x.allFinite()) {
+    if (options.exact_finish_iterations > 0 && level == options.finest_level &&
+        problem_options.jacobian != JacobianKind::kForward && x.allFinite()) {
       const int first_iterations = summary.iterations;
       problem.set_jacobian(JacobianKind::kForward);  // weights and scales carried over
       const int level_iterations = solver_options.max_iterations;
       solver_options.max_iterations = std::min(level_iterations, options.exact_finish_iterations);
-      summary = solve_level(problem);
+      summary = solve_level();
       solver_options.max_iterations = level_iterations;
       summary.iterations += first_iterations;
     }
