@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <utility>
 
 #include "experiments/json_object_reader.h"
 #include "odometry/io/atomic_file.h"
@@ -67,10 +68,15 @@ json tracker_options_to_json(const TrackerOptions& o) {
           {"max_scale_iterations", w.max_scale_iterations},
           {"scale_tolerance", w.scale_tolerance}}}}},
       {"intrinsics", nullptr},
+      {"distortion", nullptr},
   };
   if (o.intrinsics) {
     j["intrinsics"] = {{"fx", o.intrinsics->fx}, {"fy", o.intrinsics->fy}, {"cx", o.intrinsics->cx},
                        {"cy", o.intrinsics->cy}};
+  }
+  if (o.distortion) {
+    j["distortion"] = {{"k1", o.distortion->k1}, {"k2", o.distortion->k2}, {"p1", o.distortion->p1},
+                       {"p2", o.distortion->p2}, {"k3", o.distortion->k3}};
   }
   return j;
 }
@@ -150,6 +156,19 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
       kr.number("cy", K.cy, -kInf, kInf);
       kr.reject_unknown();
       o.intrinsics = K;
+    }
+  }
+  if (const json* k = r.find("distortion")) {
+    if (k->is_null()) {
+      o.distortion.reset();
+    } else {
+      odometry::io::Distortion d;
+      ObjectReader dr(*k, r.path("distortion"));
+      const std::pair<const char*, double*> fields[] = {
+          {"k1", &d.k1}, {"k2", &d.k2}, {"p1", &d.p1}, {"p2", &d.p2}, {"k3", &d.k3}};
+      for (const auto& [name, value] : fields) dr.number(name, *value, -kInf, kInf);
+      dr.reject_unknown();
+      o.distortion = d;
     }
   }
   r.reject_unknown();

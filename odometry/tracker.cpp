@@ -368,6 +368,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
+  so.distortion = options.distortion;
   const io::TumSequence seq = io::open_tum_sequence(directory, so);
   const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, directory);
   const int first_index = window.begin, end = window.end;
@@ -379,6 +380,9 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   auto t_load = Clock::now();
   io::RgbdImage first = io::load_rgbd_image(seq.frames[first_index]);
   const int width = first.width, height = first.height;
+  // Undistortion belongs to loading (a rectified camera delivers it): it is counted there.
+  const io::Undistortion undistortion(seq.intrinsics, seq.distortion, width, height);
+  undistortion.apply(first);
   double load_seconds = seconds_since(t_load);
   out.load_seconds += load_seconds;
   const int threads = options.problem.threads;
@@ -396,6 +400,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   for (int k = first_index + 1; k < end; ++k) {
     t_load = Clock::now();
     io::RgbdImage image = io::load_rgbd_image(seq.frames[k], width, height);
+    undistortion.apply(image);
     load_seconds = seconds_since(t_load);
     out.load_seconds += load_seconds;
 
@@ -462,6 +467,7 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
+  so.distortion = options.distortion;
   const io::TumSequence seq = io::open_tum_sequence(directory, so);
   const int n = static_cast<int>(seq.frames.size());
   for (int i : {reference_index, current_index}) {
@@ -474,8 +480,11 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   p.sequence = seq.name;
   p.reference_frame = seq.frames[reference_index];
   p.current_frame = seq.frames[current_index];
-  const io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
-  const io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
+  io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
+  io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
+  const io::Undistortion undistortion(seq.intrinsics, seq.distortion, a.width, a.height);
+  undistortion.apply(a);
+  undistortion.apply(b);
   p.reference = prepare_frame(a, seq.intrinsics, options.levels, options.problem.threads);
   p.current = prepare_frame(b, seq.intrinsics, options.levels, options.problem.threads);
   if (seq.groundtruth) {

@@ -83,6 +83,9 @@ struct TrackerOptions {
                                     // method_jacobian()), threads (also those of the pyramid)
   double max_association_dt = 0.02; // seconds
   std::optional<io::Intrinsics> intrinsics;  // override of the sequence-name preset
+  // Lens distortion of the stored images (override of the sequence-name preset, io/lens_distortion.h);
+  // frames are undistorted once, at loading, when it is not the identity.
+  std::optional<io::Distortion> distortion;
   int first_frame = 0;              // index of the first associated frame processed
   int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0

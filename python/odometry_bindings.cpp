@@ -144,6 +144,9 @@ void bind_odometry(py::module_& m) {
     d["directory"] = seq.directory;
     d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
                                py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
+    const io::Distortion& dist = seq.distortion;
+    d["distortion"] = py::dict(py::arg("k1") = dist.k1, py::arg("k2") = dist.k2, py::arg("p1") = dist.p1,
+                               py::arg("p2") = dist.p2, py::arg("k3") = dist.k3);
     Eigen::VectorXd t(seq.frames.size());
     py::list rgb, depth;
     for (std::size_t i = 0; i < seq.frames.size(); ++i) {
@@ -161,7 +164,7 @@ void bind_odometry(py::module_& m) {
     }
     return d;
   }, py::arg("path"), py::arg("max_association_dt") = 0.02,
-     "A TUM sequence's frames (rgb timestamps and file paths), intrinsics and ground truth (timestamps, poses) or None.");
+     "A TUM sequence's frames (rgb timestamps and file paths), intrinsics, lens distortion (frames are undistorted at loading) and ground truth (timestamps, poses) or None.");
 
   om.def("load_frame_pair", [](const std::string& path, int reference, int current, const py::kwargs& kwargs) {
     PyFramePair p;

@@ -175,7 +175,7 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
       " --method bounded --eps-min 2e-4 --eps-max 2e-3 --delta 0.015 --levels 3 --finest-level 1 --nu 4.5"
       " --initial-guess identity --max-iterations 9 --step-tolerance 3e-4 --decrease-tolerance 2e-3"
       " --min-depth 0.2 --max-depth 8 --occlusion-margin 0.05 --max-dt 0.015 --intrinsics '535.4 539.2 320.1 247.6'"
-      " --first-frame 1 --max-frames 3";
+      " --distortion '0.05 -0.1 0.001 0.002 0.01' --first-frame 1 --max-frames 3";
   const CliResult a = run_bivo("run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " +
                                    q(dir_ / "saved.json"),
                                dir_);
@@ -184,7 +184,7 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
   ASSERT_FALSE(config.empty());
   EXPECT_EQ(slurp(dir_ / "saved.json"), config);
   for (const char* value : {"\"finest_level\": 1", "\"nu\": 4.5", "\"eps_min\": 0.0002", "\"first_frame\": 1",
-                            "\"max_frames\": 3", "\"initial_guess\": \"identity\"", "\"fx\": 535.4"}) {
+                            "\"max_frames\": 3", "\"initial_guess\": \"identity\"", "\"fx\": 535.4", "\"k1\": 0.05"}) {
     EXPECT_NE(config.find(value), std::string::npos) << value << " missing in\n" << config;
   }
   const CliResult b =

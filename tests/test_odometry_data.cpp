@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/lens_distortion.h"
 #include "odometry/image_statistics.h"
 #include "odometry/io/png_io.h"
 #include "odometry/robust_weights.h"
@@ -175,6 +176,83 @@ TEST(Intrinsics, PresetsByNameAndOverrideParsing) {
   EXPECT_THROW(parse_intrinsics("500 500 320"), Error);
   EXPECT_THROW(parse_intrinsics("-1 500 320 240"), Error);
   EXPECT_THROW(parse_intrinsics("500 500 320 240 1"), Error);
+}
+
+TEST(LensDistortion, ClosedFormPresetsAndParsing) {
+  // Hand-computed: radial only, r^2 = 0.25, g = 1 + 0.1 * 0.25; tangential only, r^2 = 0.13.
+  const auto radial = Distortion{0.1, 0, 0, 0, 0}.distort(0.5, 0.0);
+  EXPECT_NEAR(radial[0], 0.5125, 1e-15);
+  EXPECT_NEAR(radial[1], 0.0, 1e-15);
+  const auto tangential = Distortion{0, 0, 0.01, 0.02, 0}.distort(0.2, 0.3);
+  EXPECT_NEAR(tangential[0], 0.2 + 2 * 0.01 * 0.06 + 0.02 * (0.13 + 0.08), 1e-15);
+  EXPECT_NEAR(tangential[1], 0.3 + 0.01 * (0.13 + 0.18) + 2 * 0.02 * 0.06, 1e-15);
+  const auto k3 = Distortion{0, 0, 0, 0, 2.0}.distort(0.0, 0.5);  // g = 1 + 2 * 0.25^3
+  EXPECT_NEAR(k3[1], 0.5 * (1 + 2 * 0.015625), 1e-15);
+
+  EXPECT_EQ(distortion_for_sequence("/x/rgbd_dataset_freiburg1_rpy").k1, 0.2624);
+  EXPECT_EQ(distortion_for_sequence("rgbd_dataset_freiburg2_desk").k3, 0.9172);
+  EXPECT_TRUE(distortion_for_sequence("rgbd_dataset_freiburg3_structure_texture_near").is_identity());
+  EXPECT_TRUE(distortion_for_sequence("rgbd_dataset_freiburg3_synth_structure_texture_far").is_identity());
+  EXPECT_TRUE(distortion_for_sequence("my_synthetic").is_identity());
+  EXPECT_TRUE(parse_distortion("none").is_identity());
+  EXPECT_EQ(parse_distortion("0.1 -0.2 0.003 0.004 0.5").p2, 0.004);
+  for (const char* bad : {"0.1 0.2 0.3 0.4", "0.1 0.2 0.3 0.4 0.5 0.6", "none 1", "nan 0 0 0 0", ""}) {
+    const std::string msg = error_of([&] { parse_distortion(bad); });
+    EXPECT_NE(msg.find(std::string("'") + bad + "'"), std::string::npos) << msg;
+  }
+}
+
+TEST(LensDistortion, UndistortionResamplesAtTheDistortedPositions) {
+  // Input images whose intensity is linear in the input pixel position (bilinear
+  // interpolation reproduces it exactly) and whose depth names its pixel: every output pixel
+  // must hold the value at K distort(K^-1 [u v 1]) (intensity; clamped to the image outside
+  // it) or at the nearest input pixel (depth; missing outside).
+  const int W = 64, H = 48;
+  const Intrinsics K{52.0, 51.0, 31.7, 24.2};
+  const Distortion d{0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  RgbdImage im;
+  im.width = W;
+  im.height = H;
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      im.intensity.push_back(3.0f * u + 2.0f * v + 10.0f);
+      im.depth.push_back(1.0f + u + 100.0f * v);
+    }
+  }
+  const Undistortion map(K, d, W, H);
+  ASSERT_FALSE(map.is_identity());
+  RgbdImage out = im;
+  map.apply(out);
+  int outside = 0;
+  double largest_shift = 0.0;
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const auto [xd, yd] = d.distort((u - K.cx) / K.fx, (v - K.cy) / K.fy);
+      const double su = K.fx * xd + K.cx, sv = K.fy * yd + K.cy;
+      const std::size_t i = static_cast<std::size_t>(v) * W + u;
+      const double cu = std::clamp(su, 0.0, W - 1.0), cv = std::clamp(sv, 0.0, H - 1.0);
+      EXPECT_NEAR(out.intensity[i], 3.0 * cu + 2.0 * cv + 10.0, 2e-4 * (3.0 * cu + 2.0 * cv + 10.0)) << u << "," << v;
+      if (su >= 0 && su <= W - 1 && sv >= 0 && sv <= H - 1) {
+        EXPECT_EQ(out.depth[i], 1.0f + std::lround(su) + 100.0f * std::lround(sv)) << u << "," << v;
+        largest_shift = std::max(largest_shift, std::hypot(su - u, sv - v));
+      } else {
+        EXPECT_EQ(out.depth[i], 0.0f) << u << "," << v;
+        ++outside;
+      }
+    }
+  }
+  EXPECT_GT(outside, 0);  // the corners of this lens fall outside the stored image
+  EXPECT_GT(largest_shift, 1.5);  // inside the image: ~1.9 pixels here, ten times that at 640x480
+
+  // No distortion: the frame is left bit for bit; a frame of another size is an error.
+  RgbdImage same = im;
+  Undistortion(K, Distortion{}, W, H).apply(same);
+  EXPECT_EQ(same.intensity, im.intensity);
+  EXPECT_EQ(same.depth, im.depth);
+  RgbdImage small = im;
+  small.width = W / 2;
+  const std::string msg = error_of([&] { map.apply(small); });
+  EXPECT_NE(msg.find("32x48"), std::string::npos) << msg;
 }
 
 TEST(Intrinsics, LevelScalingMatchesTheAveragedPixelGrid) {

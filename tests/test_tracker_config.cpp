@@ -63,6 +63,7 @@ TrackerOptions unusual_options() {
   o.problem.weights.max_scale_iterations = 17;
   o.problem.weights.scale_tolerance = 3e-5;
   o.intrinsics = bivo::odometry::io::Intrinsics{500.125, 501.5, 320.25, 240.75};
+  o.distortion = bivo::odometry::io::Distortion{0.1 + 0.2, -1.0 / 3.0, 1e-3 / 7.0, -2e-4, 1.1633};
   return o;
 }
 
@@ -126,6 +127,12 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.intrinsics->fy, o.intrinsics->fy);
   EXPECT_EQ(back.intrinsics->cx, o.intrinsics->cx);
   EXPECT_EQ(back.intrinsics->cy, o.intrinsics->cy);
+  ASSERT_TRUE(back.distortion.has_value());
+  EXPECT_EQ(back.distortion->k1, o.distortion->k1);
+  EXPECT_EQ(back.distortion->k2, o.distortion->k2);
+  EXPECT_EQ(back.distortion->p1, o.distortion->p1);
+  EXPECT_EQ(back.distortion->p2, o.distortion->p2);
+  EXPECT_EQ(back.distortion->k3, o.distortion->k3);
   // And the second trip writes the same document.
   EXPECT_EQ(tracker_options_to_json(back).dump(), tracker_options_to_json(o).dump());
 }
@@ -133,11 +140,12 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
 TEST(TrackerConfig, AbsentKeysKeepTheBaseAndNullClearsOptionals) {
   const TrackerOptions base = unusual_options();
   const TrackerOptions o =
-      tracker_options_from_json(json::parse(R"({"levels": 2, "policy": {"eps": null}, "intrinsics": null})"), "x",
+      tracker_options_from_json(json::parse(R"({"levels": 2, "policy": {"eps": null}, "intrinsics": null, "distortion": null})"), "x",
                                 base);
   EXPECT_EQ(o.levels, 2);
   EXPECT_FALSE(o.policy.eps.has_value());
   EXPECT_FALSE(o.intrinsics.has_value());
+  EXPECT_FALSE(o.distortion.has_value());
   EXPECT_EQ(o.policy.lambda, base.policy.lambda);
   EXPECT_EQ(o.method, base.method);
   // The defaults' own document reads back as the defaults.

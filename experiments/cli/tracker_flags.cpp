@@ -3,6 +3,7 @@
 
 #include "experiments/tracker_config.h"
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/lens_distortion.h"
 #include "odometry/odometry_methods.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -113,6 +114,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
               [](TrackerOptions& o, const double& v) { o.max_association_dt = v; });
   add<std::string>("--intrinsics", "\"fx fy cx cy\" instead of the preset chosen by the sequence name", "",
                    [](TrackerOptions& o, const std::string& v) { o.intrinsics = odometry::io::parse_intrinsics(v); });
+  add<std::string>("--distortion",
+                   "\"k1 k2 p1 p2 k3\" or \"none\" instead of the lens distortion preset chosen by the sequence name "
+                   "(freiburg1/2: TUM's calibration; frames are undistorted at loading)",
+                   "", [](TrackerOptions& o, const std::string& v) { o.distortion = odometry::io::parse_distortion(v); });
   add<bool>("--start-at-groundtruth", "first pose from groundtruth.txt when it covers the first frame (true/false)",
             d.start_at_groundtruth, [](TrackerOptions& o, const bool& v) { o.start_at_groundtruth = v; });
   add<int>("--verbosity", "solver log level", d.verbosity, [](TrackerOptions& o, const int& v) { o.verbosity = v; });

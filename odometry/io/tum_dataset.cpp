@@ -108,6 +108,7 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
   seq.name = fs::path(directory).lexically_normal().filename().string();
   if (seq.name.empty()) seq.name = fs::path(directory).lexically_normal().parent_path().filename().string();
   seq.intrinsics = options.intrinsics ? *options.intrinsics : intrinsics_for_sequence(seq.name);
+  seq.distortion = options.distortion ? *options.distortion : distortion_for_sequence(seq.name);
 
   const std::string associations = join(directory, "associations.txt");
   if (fs::exists(associations)) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/lens_distortion.h"
 #include "odometry/io/trajectory.h"
 
 namespace bivo::odometry::io {
@@ -48,6 +49,7 @@ std::vector<AssociatedFrame> read_associations(const std::string& path, const st
 struct SequenceOptions {
   double max_association_dt = 0.02;       // seconds
   std::optional<Intrinsics> intrinsics;   // override of the preset chosen by name
+  std::optional<Distortion> distortion;   // override of the preset chosen by name
   int max_frames = -1;                    // keep only the first N associated frames (-1: all)
 };
 
@@ -55,6 +57,7 @@ struct TumSequence {
   std::string directory;
   std::string name;  // last path component, e.g. rgbd_dataset_freiburg1_rpy
   Intrinsics intrinsics;
+  Distortion distortion;                   // of the images as stored (lens_distortion.h)
   std::vector<AssociatedFrame> frames;     // sorted by rgb time
   std::optional<Trajectory> groundtruth;   // when groundtruth.txt exists
   std::vector<std::string> list_files;     // the text files read (lists, groundtruth.txt)
