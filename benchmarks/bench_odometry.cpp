@@ -65,6 +65,21 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads));
 }
 
+// Undistorting one loaded fr1 frame with its sequence's map (part of loading, not of a pair).
+void BM_OdometryUndistortFrame(benchmark::State& state) {
+  if (!std::filesystem::exists(kSequence)) {
+    state.SkipWithError(("shared data absent: " + kSequence).c_str());
+    return;
+  }
+  const TumSequence seq = open_tum_sequence(kSequence);
+  RgbdImage image = load_rgbd_image(seq.frames[0]);
+  const Undistortion map(seq.intrinsics, seq.distortion, image.width, image.height);
+  for (auto _ : state) {  // the same work whatever the content: the frame is undistorted again
+    map.apply(image);
+    benchmark::DoNotOptimize(image.depth.data());
+  }
+}
+
 // One level-0 linearization (warp, weights, normal equations) with the given kernels and
 // threads; joint = 1: method joint's weight stage (one bivariate-t weight per pixel).
 void BM_OdometryLinearizeLevel0(benchmark::State& state) {
@@ -180,5 +195,6 @@ BENCHMARK(BM_OdometryLinearizeLevel0)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_OdometryEvaluateLevel0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryUndistortFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParetoSweep32)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryStreamFloor)->Arg(14)->Arg(64)->Unit(benchmark::kMillisecond);

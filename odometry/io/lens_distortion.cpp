@@ -83,7 +83,10 @@ void Undistortion::apply(RgbdImage& image) const {
   }
   if (identity_) return;
   const std::size_t n = cell_.size();
-  std::vector<float> intensity(n), depth(n);
+  std::vector<float>& intensity = spare_intensity_;
+  std::vector<float>& depth = spare_depth_;
+  intensity.resize(n);
+  depth.resize(n);
   const float* I = image.intensity.data();
   const float* D = image.depth.data();
   for (std::size_t i = 0; i < n; ++i) {

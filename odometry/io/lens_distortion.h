@@ -48,7 +48,9 @@ class Undistortion {
   Undistortion(const Intrinsics& K, const Distortion& d, int width, int height);
 
   bool is_identity() const { return identity_; }
-  // Undistorts `image` in place; throws bivo::Error when its size is not the map's.
+  // Undistorts `image` in place; throws bivo::Error when its size is not the map's. The
+  // output is written into buffers kept from the previous call (which then receive the
+  // input's), so a stream of frames causes no fresh page faults: one map per thread.
   void apply(RgbdImage& image) const;
   // Where output pixel (u, v) reads the input (for tests): in pixels of the input.
   std::array<double, 2> source(int u, int v) const;
@@ -62,6 +64,7 @@ class Undistortion {
   std::vector<std::int32_t> cell_;
   std::vector<float> fu_, fv_;
   std::vector<std::int32_t> nearest_;  // -1: outside the input (depth missing)
+  mutable std::vector<float> spare_intensity_, spare_depth_;  // see apply()
 };
 
 }  // namespace bivo::odometry::io
