@@ -147,6 +147,9 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.eps_ratio > 0.0 && std::isfinite(options.policy.eps_ratio))) {
     throw Error("eps ratio must be finite and > 0, got " + std::to_string(options.policy.eps_ratio));
   }
+  if (!(options.policy.joint_tolerance >= 0.0 && std::isfinite(options.policy.joint_tolerance))) {
+    throw Error("joint tolerance must be finite and >= 0, got " + std::to_string(options.policy.joint_tolerance));
+  }
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
@@ -236,7 +239,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
   solver_options.step_tolerance = options.step_tolerance;
-  solver_options.relative_decrease_tolerance = options.relative_decrease_tolerance;
+  solver_options.relative_decrease_tolerance =
+      method == Method::kJoint ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
   solver_options.profile = &result.profile;
   solver_options.verbosity = options.verbosity;
 

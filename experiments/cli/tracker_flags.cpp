@@ -61,6 +61,9 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
     eps_ratio_ = add<double>("--eps-ratio",
                              "method noise-bounded: eps_bar / (F_D per unit weight at the photometric solution)",
                              d.policy.eps_ratio, [](TrackerOptions& o, const double& v) { o.policy.eps_ratio = v; });
+    joint_tolerance_ = add<double>(
+        "--joint-tolerance", "method joint: relative merit change that ends a level (instead of --decrease-tolerance)",
+        d.policy.joint_tolerance, [](TrackerOptions& o, const double& v) { o.policy.joint_tolerance = v; });
     guard_ = add<double>("--guard", "method noise-bounded: rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
                          d.policy.guard, [](TrackerOptions& o, const double& v) { o.policy.guard = v; });
   }
@@ -153,6 +156,7 @@ TrackerOptions TrackerFlags::options() const {
     only_for(kappa_, odometry::Method::kScaled);
     only_for(eps_ratio_, odometry::Method::kNoiseBounded);
     only_for(guard_, odometry::Method::kNoiseBounded);
+    only_for(joint_tolerance_, odometry::Method::kJoint);
   }
   odometry::validate(o);
   return o;
