@@ -1,7 +1,13 @@
 #include "odometry/reference_terms.h"
 
+#include <algorithm>
+
+#include "odometry/parallel_chunks.h"
+
 namespace bivo::odometry {
 namespace {
+
+constexpr int kRowsPerChunk = 16;
 
 // d/dx of a row at x: central difference, one-sided at the ends; with skip_missing only
 // valid (> 0) neighbours are used and 0 is returned when neither side has one.
@@ -44,39 +50,65 @@ ReferenceArrays ReferenceTerms::view() const {
 }
 
 ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
-                                    bool with_gradients) {
+                                    bool with_gradients, int threads) {
   const ImageF& I = reference.intensity;
   const ImageF& D = reference.depth;
   const io::Intrinsics& K = reference.K;
   const double ifx = 1.0 / K.fx, ify = 1.0 / K.fy;
   const auto usable = [&](float z) { return double(z) >= min_depth && double(z) <= max_depth; };
   ReferenceTerms t;
-  // One pass: room for every pixel first (pooled memory, not touched beyond what is written),
-  // then the arrays are cut to the padded term count and their padding zeroed.
+  // Room for every pixel first (pooled memory, not touched beyond what is written), then the
+  // arrays are cut to the padded term count and their padding zeroed.
   std::vector<PooledFloats*> arrays{&t.x, &t.y, &t.z, &t.intensity};
   if (with_gradients) arrays.insert(arrays.end(), {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v});
   for (PooledFloats* v : arrays) v->reset(padded_terms(D.data.size()));
   const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
-  std::size_t k = 0;
-  for (int y = 0; y < D.height; ++y) {
-    const float* drow = D.data.data() + static_cast<std::size_t>(y) * D.width;
-    const float* irow = I.data.data() + static_cast<std::size_t>(y) * I.width;
-    const double ry = (y - K.cy) * ify;
-    for (int x = 0; x < D.width; ++x) {
-      if (!usable(drow[x])) continue;
-      const double z = drow[x];
-      t.x[k] = static_cast<float>((x - K.cx) * ifx * z);
-      t.y[k] = static_cast<float>(ry * z);
-      t.z[k] = drow[x];
-      t.intensity[k] = irow[x];
-      if (with_gradients) {
-        t.gi_u[k] = fx * row_derivative(irow, x, I.width, false);
-        t.gi_v[k] = fy * column_derivative(I, x, y, false);
-        t.gd_u[k] = fx * row_derivative(drow, x, D.width, true);
-        t.gd_v[k] = fy * column_derivative(D, x, y, true);
+  // The terms of rows [y0, y1), the first at index k; returns the index after the last.
+  const auto fill_rows = [&](int y0, int y1, std::size_t k) {
+    for (int y = y0; y < y1; ++y) {
+      const float* drow = D.data.data() + static_cast<std::size_t>(y) * D.width;
+      const float* irow = I.data.data() + static_cast<std::size_t>(y) * I.width;
+      const double ry = (y - K.cy) * ify;
+      for (int x = 0; x < D.width; ++x) {
+        if (!usable(drow[x])) continue;
+        const double z = drow[x];
+        t.x[k] = static_cast<float>((x - K.cx) * ifx * z);
+        t.y[k] = static_cast<float>(ry * z);
+        t.z[k] = drow[x];
+        t.intensity[k] = irow[x];
+        if (with_gradients) {
+          t.gi_u[k] = fx * row_derivative(irow, x, I.width, false);
+          t.gi_v[k] = fy * column_derivative(I, x, y, false);
+          t.gd_u[k] = fx * row_derivative(drow, x, D.width, true);
+          t.gd_v[k] = fy * column_derivative(D, x, y, true);
+        }
+        ++k;
       }
-      ++k;
     }
+    return k;
+  };
+  const int chunks = (D.height + kRowsPerChunk - 1) / kRowsPerChunk;
+  std::size_t k = 0;
+  if (threads > 1 && chunks > 1) {
+    // Threads: count each row chunk's terms, then every chunk writes from its own first
+    // index: the same terms at the same indices as one pass in row order.
+    std::vector<std::size_t> first(static_cast<std::size_t>(chunks) + 1, 0);
+    for_each_chunk(chunks, threads, [&](int c) {
+      const int y1 = std::min(D.height, (c + 1) * kRowsPerChunk);
+      const std::size_t w = static_cast<std::size_t>(D.width);
+      std::size_t n = 0;
+      for (std::size_t i = static_cast<std::size_t>(c) * kRowsPerChunk * w; i < static_cast<std::size_t>(y1) * w; ++i) {
+        n += usable(D.data[i]) ? 1 : 0;
+      }
+      first[static_cast<std::size_t>(c) + 1] = n;
+    });
+    for (int c = 0; c < chunks; ++c) first[static_cast<std::size_t>(c) + 1] += first[static_cast<std::size_t>(c)];
+    for_each_chunk(chunks, threads, [&](int c) {
+      fill_rows(c * kRowsPerChunk, std::min(D.height, (c + 1) * kRowsPerChunk), first[static_cast<std::size_t>(c)]);
+    });
+    k = first.back();
+  } else {
+    k = fill_rows(0, D.height, 0);
   }
   t.count = k;
   for (PooledFloats* v : arrays) {

@@ -107,7 +107,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   // Everything that does not depend on the pose, once per (pair, level): the iterations then
   // only transform, project, interpolate and accumulate.
   reference_terms_ = make_reference_terms(reference, options_.min_depth, options_.max_depth,
-                                          gradients_ != GradientSource::kCurrent);
+                                          gradients_ != GradientSource::kCurrent, options_.threads);
   if (current.intensity_depth.size() == 2 * ci.data.size()) {
     cells_ = current.intensity_depth.data();
   } else {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "solvers/backend_registry.h"
@@ -51,10 +52,35 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
   }
   const std::string backend = options.backend.empty() ? default_backend(ScalarizationKind::kWeightedSum) : options.backend;
   ParetoFront front;
+  const Manifold& manifold = problem.manifold();
   Eigen::VectorXd x = x0;
   const double ratio = std::log(options.lambda_max / options.lambda_min);
   for (int i = 0; i < options.points; ++i) {
     const double lambda = options.lambda_min * std::exp(ratio * double(i) / double(options.points - 1));
+    // Warm start: the previous point, or the secant prediction from the two before.
+    std::optional<Eigen::VectorXd> predicted;
+    const std::size_t n = front.all.size();
+    if (options.secant_predictor && n >= 2 && front.all[n - 1].converged && front.all[n - 2].converged) {
+      const Eigen::VectorXd secant = manifold.minus(front.all[n - 1].x, front.all[n - 2].x);
+      if (secant.allFinite() && secant.norm() > 2.0 * options.solver.step_tolerance) {
+        Eigen::VectorXd start = manifold.retract(x, secant);
+        if (start.allFinite()) predicted = std::move(start);
+      }
+    }
+    if (predicted) {
+      Eigen::VectorXd xp = *predicted;
+      std::optional<Summary> s;
+      try {
+        s = solve(problem, WeightedSum(lambda), backend, xp, options.solver);
+      } catch (const Error&) {
+        // e.g. objectives not finite at the predicted x: fall back to the plain warm start.
+      }
+      if (s && s->termination != TerminationReason::kNumericalFailure) {
+        x = xp;
+        front.all.push_back(point_from(*s, x, lambda));
+        continue;
+      }
+    }
     const Summary s = solve(problem, WeightedSum(lambda), backend, x, options.solver);  // x: warm start
     front.all.push_back(point_from(s, x, lambda));
   }

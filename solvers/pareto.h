@@ -4,7 +4,8 @@
 //                  convex part of a front is reachable this way);
 //   sweep_epsilon: epsilon on a uniform grid over [min F_2, F_2 at the F_1-minimizer]
 //                  (epsilon-constraint; reaches non-convex parts too).
-// Each point is warm-started from its neighbour's solution. Dominated points are dropped;
+// Each point is warm-started from its neighbour's solution (sweep_lambda: or from a secant
+// prediction, ParetoOptions::secant_predictor). Dominated points are dropped;
 // the survivors are sorted by F_1 ascending (so F_2 descending).
 //
 // Knee: the point farthest from the chord between the two extreme points, measured in
@@ -39,6 +40,15 @@ struct ParetoOptions {
   double lambda_min = 1e-3, lambda_max = 1e3;  // sweep_lambda only; 0 < min < max
   std::string backend;  // empty: "gn" for lambda, "exact" for epsilon
   SolverOptions solver;
+  // sweep_lambda: where the front moves fast, start a point from the secant prediction
+  // x_k (+) (x_k (-) x_{k-1}) of the two previous (converged) points instead of from x_k:
+  // used when |x_k (-) x_{k-1}| > 2 solver.step_tolerance (a point that moved less is about
+  // one small step from the next one and gains nothing from a prediction, whose first
+  // linearization would need a new residual pass). Each point is still a solve of its own
+  // weighted sum to the same tolerances; only its starting point differs. With a robust
+  // (IRLS) problem, whose iterations contract linearly, it took the level-0 sweep of
+  // fr1/desk from 58 to 43 iterations (docs/odometry.md "Speed", fourth round).
+  bool secant_predictor = true;
 };
 
 struct ParetoFront {

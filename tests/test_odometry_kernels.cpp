@@ -145,6 +145,17 @@ TEST(RgbdKernels, ResultsAreBitIdenticalForEveryThreadCount) {
     EXPECT_EQ(many.last_stats().sigma_intensity, one.last_stats().sigma_intensity);
     EXPECT_EQ(many.evaluate(se3::to_ambient(scene().T_21)), f1);
   }
+  // The reference terms (rows split over threads: each chunk writes from its counted first index).
+  const auto floats = [](const PooledFloats& v) { return std::vector<float>(v.data(), v.data() + v.size()); };
+  const ReferenceTerms t1 = make_reference_terms(a, 0.1, 10.0, true, 1);
+  for (int threads : {2, 3}) {
+    const ReferenceTerms tn = make_reference_terms(a, 0.1, 10.0, true, threads);
+    ASSERT_EQ(tn.count, t1.count);
+    for (auto member : {&ReferenceTerms::x, &ReferenceTerms::y, &ReferenceTerms::z, &ReferenceTerms::intensity,
+                        &ReferenceTerms::gi_u, &ReferenceTerms::gi_v, &ReferenceTerms::gd_u, &ReferenceTerms::gd_v}) {
+      EXPECT_EQ(floats(tn.*member), floats(t1.*member));
+    }
+  }
   // The frame preparation and a whole coarse-to-fine estimate, too.
   const io::RgbdImage im = render_plane(Eigen::Isometry3d::Identity());
   const PreparedFrame p1 = prepare_frame(im, kK, 3, 1), p2 = prepare_frame(im, kK, 3, 2);

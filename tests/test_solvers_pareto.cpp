@@ -1,6 +1,7 @@
 // Pareto sweeps against the analytic fronts of the linear pairs (QR closed forms), the
 // dominance filter, the knee and the hypervolume against hand-computed values.
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -105,6 +106,29 @@ TEST(SolversPareto, WarmStartedLambdaSweepFollowsTheNonlinearOracle) {
   ASSERT_TRUE(knee.has_value());
   EXPECT_GT(*knee, 0u);
   EXPECT_LT(*knee, 8u);
+}
+
+// The secant predictor changes where a point starts, not what it is: with and without it the
+// points are the oracle's optima, and on this smooth front it saves iterations.
+TEST(SolversPareto, SecantPredictorKeepsEveryPointAtItsOptimum) {
+  auto p = bivo::problems::ExponentialDecayPair::synthetic(60, 17);
+  auto o = tight(17);
+  o.lambda_min = 1e-2;
+  o.lambda_max = 1e2;
+  o.solver.max_iterations = 200;
+  int iterations[2] = {0, 0};
+  for (bool predict : {false, true}) {
+    o.secant_predictor = predict;
+    const auto front = solvers::sweep_lambda(p, Eigen::Vector3d(1.0, 1.0, 1.0), o);
+    ASSERT_EQ(front.all.size(), 17u);
+    for (const auto& q : front.all) {
+      EXPECT_TRUE(q.converged) << "lambda " << q.parameter;
+      EXPECT_LT(rel_err(q.x, p.weighted_sum_optimum(q.parameter)), 1e-7) << "lambda " << q.parameter;
+      iterations[predict] += q.iterations;
+    }
+  }
+  std::printf("iterations without / with the predictor: %d / %d\n", iterations[0], iterations[1]);
+  EXPECT_LT(iterations[1], iterations[0]);
 }
 
 TEST(SolversPareto, DominatedPointsAndDuplicatesAreDropped) {
