@@ -249,6 +249,12 @@ TEST(LensDistortion, UndistortionResamplesAtTheDistortedPositions) {
   Undistortion(K, Distortion{}, W, H).apply(same);
   EXPECT_EQ(same.intensity, im.intensity);
   EXPECT_EQ(same.depth, im.depth);
+  // A lens model whose positions overflow to inf - inf = NaN (921 of these pixels) is still a
+  // defined resampling: no NaN out, depth missing there (a NaN cast to int read far outside).
+  RgbdImage wild = im;
+  Undistortion(Intrinsics{20.0, 20.0, 31.7, 24.2}, Distortion{1e308, 1e308, 0, 1e308, 1e308}, W, H).apply(wild);
+  for (std::size_t i = 0; i < wild.intensity.size(); ++i) ASSERT_TRUE(std::isfinite(wild.intensity[i])) << i;
+  EXPECT_EQ(wild.depth.front(), 0.0f);
   RgbdImage small = im;
   small.width = W / 2;
   const std::string msg = error_of([&] { map.apply(small); });

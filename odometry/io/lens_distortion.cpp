@@ -60,8 +60,10 @@ Undistortion::Undistortion(const Intrinsics& K, const Distortion& d, int width, 
       const auto [su, sv] = source(u, v);
       const bool inside = su >= 0.0 && su <= width - 1.0 && sv >= 0.0 && sv <= height - 1.0;
       nearest_[i] = inside ? static_cast<std::int32_t>(std::lround(sv) * width + std::lround(su)) : -1;
-      // The bilinear cell: clamped so that its right/bottom neighbour exists.
-      const double cu = std::clamp(su, 0.0, width - 1.0), cv = std::clamp(sv, 0.0, height - 1.0);
+      // The bilinear cell: clamped so that its right/bottom neighbour exists (a lens model so
+      // strong that the position overflows reads the image's corner).
+      const double cu = std::isfinite(su) ? std::clamp(su, 0.0, width - 1.0) : 0.0;
+      const double cv = std::isfinite(sv) ? std::clamp(sv, 0.0, height - 1.0) : 0.0;
       const int u0 = std::min(static_cast<int>(cu), width - 2), v0 = std::min(static_cast<int>(cv), height - 2);
       cell_[i] = v0 * width + u0;
       fu_[i] = static_cast<float>(cu - u0);
