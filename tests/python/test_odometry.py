@@ -67,6 +67,7 @@ def test_open_sequence_lists_frames_and_ground_truth(synthetic_sequence):
     t, poses = seq["groundtruth"]
     assert poses.shape == (len(t), 7)
     assert seq["intrinsics"]["fx"] > 0
+    assert seq["distortion"] == {"k1": 0.0, "k2": 0.0, "p1": 0.0, "p2": 0.0, "k3": 0.0}  # a rendering
     track = bivo.track(synthetic_sequence, max_frames=2)
     assert_same(track.timestamps, seq["timestamps"][:2], 0.0)
     assert_same(track.poses[0], poses[0], 1e-9)  # the first pose starts at the ground truth
@@ -75,4 +76,6 @@ def test_open_sequence_lists_frames_and_ground_truth(synthetic_sequence):
 def test_tracker_options_are_the_config_file_keys():
     o = bivo.odometry.tracker_options(method="bounded", policy={"eps": 2e-4})
     assert o["method"] == "bounded" and o["policy"]["eps"] == 2e-4
+    lens = {"k1": 0.25, "k2": -0.5, "p1": 0.001, "p2": -0.002, "k3": 1.0}
+    assert bivo.odometry.tracker_options(distortion=lens)["distortion"] == lens
     assert "weighted" in bivo.odometry.methods()
