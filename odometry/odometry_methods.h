@@ -59,6 +59,10 @@ struct PolicyParameters {
   double kappa = 0.03;          // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
   double eps_ratio = 0.8;       // method noise-bounded: eps_bar / depth-residual level at x_I
   double guard = 168.0;         // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
+  // method noise-bounded: a level whose bound the guard relaxed continues its photometric
+  // solution x_I to this relative merit change (its coarser levels may have pulled its start
+  // towards the depth objective); 1.055x -> 1.03x worst ratio to single (docs/odometry.md).
+  double relaxed_tolerance = 1e-5;
   // method joint: the relative merit change that ends a level (TrackerOptions::
   // relative_decrease_tolerance ends the other methods' levels). joint re-estimates its 2x2
   // scale, hence its whole cost, at every linearization: at 1e-3 it stopped while the weights

@@ -50,6 +50,7 @@ TrackerOptions unusual_options() {
   o.policy.eps_ratio = 2.0 / 3.0;
   o.policy.guard = 0.0123;
   o.policy.joint_tolerance = 2.0 / 9.0;
+  o.policy.relaxed_tolerance = 3.0 / 11.0;
   o.problem.min_depth = 0.25;
   o.problem.max_depth = 6.5;
   o.problem.occlusion_margin = 0.07;
@@ -111,6 +112,7 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.policy.eps_ratio, o.policy.eps_ratio);
   EXPECT_EQ(back.policy.guard, o.policy.guard);
   EXPECT_EQ(back.policy.joint_tolerance, o.policy.joint_tolerance);
+  EXPECT_EQ(back.policy.relaxed_tolerance, o.policy.relaxed_tolerance);
   EXPECT_EQ(back.problem.min_depth, o.problem.min_depth);
   EXPECT_EQ(back.problem.max_depth, o.problem.max_depth);
   EXPECT_EQ(back.problem.occlusion_margin, o.problem.occlusion_margin);

@@ -64,6 +64,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
     joint_tolerance_ = add<double>(
         "--joint-tolerance", "method joint: relative merit change that ends a level (instead of --decrease-tolerance)",
         d.policy.joint_tolerance, [](TrackerOptions& o, const double& v) { o.policy.joint_tolerance = v; });
+    relaxed_tolerance_ = add<double>(
+        "--relaxed-tolerance",
+        "method noise-bounded: relative merit change to which a relaxed level's photometric solution is finished",
+        d.policy.relaxed_tolerance, [](TrackerOptions& o, const double& v) { o.policy.relaxed_tolerance = v; });
     guard_ = add<double>("--guard", "method noise-bounded: rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
                          d.policy.guard, [](TrackerOptions& o, const double& v) { o.policy.guard = v; });
   }
@@ -157,6 +161,7 @@ TrackerOptions TrackerFlags::options() const {
     only_for(eps_ratio_, odometry::Method::kNoiseBounded);
     only_for(guard_, odometry::Method::kNoiseBounded);
     only_for(joint_tolerance_, odometry::Method::kJoint);
+    only_for(relaxed_tolerance_, odometry::Method::kNoiseBounded);
   }
   odometry::validate(o);
   return o;

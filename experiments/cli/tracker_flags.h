@@ -41,7 +41,7 @@ class TrackerFlags {
   std::vector<Flag> flags_;
   CLI::Option *method_ = nullptr, *lambda_ = nullptr, *eps_ = nullptr, *phi_ = nullptr, *delta_ = nullptr, *eps_min_ = nullptr,
               *eps_max_ = nullptr, *kappa_ = nullptr, *eps_ratio_ = nullptr, *guard_ = nullptr,
-              *joint_tolerance_ = nullptr;
+              *joint_tolerance_ = nullptr, *relaxed_tolerance_ = nullptr;
 };
 
 }  // namespace bivo::experiments::cli
