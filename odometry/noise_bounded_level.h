@@ -21,7 +21,8 @@ struct NoiseBoundedLevel {
 };
 
 // Method noise-bounded at one level (odometry_methods.h): the photometric solution x_I,
-// the depth-residual level there, the bounded solve from x_I, and the guard.
+// the depth-residual level there, the bounded solve from x_I, the guard, and the finish of
+// x_I when the guard relaxes the bound (PolicyParameters::relaxed_tolerance).
 template <class Run>
 NoiseBoundedLevel solve_noise_bounded(RgbdOdometryProblem& problem, const PolicyParameters& policy, const Run& run,
                                       const solvers::SolverOptions& solver_options, Eigen::VectorXd& x) {

@@ -62,6 +62,7 @@ struct TrackerOptions {
   int max_iterations = 20;          // per pyramid level
   double step_tolerance = 1e-4;     // |delta| (m, rad) that ends a level
   double relative_decrease_tolerance = 1e-3;  // relative merit change that ends a level
+                                              // (joint: PolicyParameters::joint_tolerance)
   // A step that would move the reference points' projections by less than this RMS image
   // motion (pixels of the level being solved) is not taken and ends the level (0: off, the
   // default: at 0.05 px it cut iterations by 40 % but raised weighted's RPE on fr1/rpy by 5 %

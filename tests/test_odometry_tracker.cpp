@@ -283,6 +283,34 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   EXPECT_LT(s_finished.rotation_deg, 0.75 * s_unfinished.rotation_deg);
 }
 
+// joint ends its levels at PolicyParameters::joint_tolerance, not at the shared
+// relative_decrease_tolerance (which the other methods keep): changing the shared one leaves
+// joint's estimate bit for bit, changing joint's own ends it earlier.
+TEST(Tracker, JointStopsAtItsOwnTolerance) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const TumSequence seq = open_tum_sequence(kData + "rgbd_dataset_freiburg1_desk", {});
+  TrackerOptions o;
+  o.method = "joint";
+  const PreparedFrame ref = prepare_frame(load_rgbd_image(seq.frames[2]), seq.intrinsics, o.levels);
+  const PreparedFrame cur = prepare_frame(load_rgbd_image(seq.frames[3]), seq.intrinsics, o.levels);
+  const PairResult base = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), o);
+  TrackerOptions shared = o;
+  shared.relative_decrease_tolerance = 0.5;
+  const PairResult r_shared = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), shared);
+  EXPECT_EQ(r_shared.iterations, base.iterations);
+  EXPECT_TRUE(r_shared.T_21.matrix() == base.T_21.matrix());
+  TrackerOptions own = o;
+  own.policy.joint_tolerance = 0.5;
+  const PairResult r_own = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), own);
+  EXPECT_LT(r_own.iterations, base.iterations);
+  // single, by contrast, follows the shared tolerance.
+  TrackerOptions single = o, single_loose = o;
+  single.method = single_loose.method = "single";
+  single_loose.relative_decrease_tolerance = 0.5;
+  EXPECT_LT(estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), single_loose).iterations,
+            estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), single).iterations);
+}
+
 // Reference-side gradients (joint's default Jacobian, inverse) make Gauss-Newton converge to a
 // fixed point of the approximate Jacobian, not to a stationary point of the cost. The exact
 // finish continues the finest level with current-side gradients: its estimate must be (near) a
