@@ -12,6 +12,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "odometry/reference_terms.h"
 #include "odometry/tracker.h"
 #include "solvers/pareto.h"
 #include "solvers/se3.h"
@@ -39,6 +40,11 @@ const FramePair* shared_pair() {
     state.SkipWithError(("shared data absent: " + kSequence).c_str());      \
     return;                                                                 \
   }
+
+// Benchmark argument -> kernels: 0 scalar, 1 avx2, 2 avx512vl.
+KernelIsa isa_of(std::int64_t arg) {
+  return arg == 2 ? KernelIsa::kAvx512Vl : arg == 1 ? KernelIsa::kAvx2 : KernelIsa::kScalar;
+}
 
 void BM_OdometryPair(benchmark::State& state, const std::string& method, const std::string& backend) {
   BIVO_NEED_PAIR(pair);
@@ -84,7 +90,7 @@ void BM_OdometryUndistortFrame(benchmark::State& state) {
 // threads; joint = 1: method joint's weight stage (one bivariate-t weight per pixel).
 void BM_OdometryLinearizeLevel0(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
-  const KernelIsa isa = state.range(0) ? KernelIsa::kAvx2 : KernelIsa::kScalar;
+  const KernelIsa isa = isa_of(state.range(0));
   if (!kernels_available(isa)) {
     state.SkipWithError("kernels not available on this CPU / build");
     return;
@@ -103,10 +109,32 @@ void BM_OdometryLinearizeLevel0(benchmark::State& state) {
   state.SetLabel(to_string(isa));
 }
 
+// The reference-side terms of level 0 (3-D points and intensities of the pixels with usable
+// depth), built once per pair and level by every problem ("reference" in `bivo profile`).
+void BM_OdometryReferenceTerms(benchmark::State& state) {
+  BIVO_NEED_PAIR(pair);
+  const int threads = static_cast<int>(state.range(0));
+  const bool gradients = state.range(1) != 0;
+  std::size_t terms = 0;
+  for (auto _ : state) {
+    const ReferenceTerms t = make_reference_terms(pair->reference.pyramid.levels[0], 0.1, 10.0, gradients, threads);
+    terms = t.count;
+    benchmark::DoNotOptimize(t.x.data());
+  }
+  state.counters["terms"] = static_cast<double>(terms);
+}
+
 // One level-0 evaluate() at a new pose: the warp with F summed under the stored weights.
 void BM_OdometryEvaluateLevel0(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
+  const KernelIsa isa = isa_of(state.range(0));
+  if (!kernels_available(isa)) {
+    state.SkipWithError("kernels not available on this CPU / build");
+    return;
+  }
   RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0]);
+  problem.set_kernel_isa(isa);
+  state.SetLabel(to_string(isa));
   Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
   problem.linearize(x, {});
   for (auto _ : state) {
@@ -187,14 +215,22 @@ BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), 
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryPrepareFrame)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OdometryLinearizeLevel0)
-    ->ArgNames({"avx2", "threads", "joint"})
+    ->ArgNames({"isa", "threads", "joint"})  // isa: 0 scalar, 1 avx2, 2 avx512vl
     ->Args({0, 1, 0})
     ->Args({1, 1, 0})
+    ->Args({2, 1, 0})
     ->Args({1, 2, 0})
     ->Args({1, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_OdometryEvaluateLevel0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryEvaluateLevel0)->ArgName("isa")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryReferenceTerms)
+    ->ArgNames({"threads", "gradients"})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_OdometryUndistortFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParetoSweep32)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryStreamFloor)->Arg(14)->Arg(64)->Unit(benchmark::kMillisecond);

@@ -11,24 +11,51 @@ const KernelTable& scalar_kernel_table();
 #ifdef BIVO_HAVE_AVX2_KERNELS
 const KernelTable& avx2_kernel_table();
 #endif
+#ifdef BIVO_HAVE_AVX512VL_KERNELS
+const KernelTable& avx512vl_kernel_table();
+#endif
 
-const char* to_string(KernelIsa isa) { return isa == KernelIsa::kAvx2 ? "avx2" : "scalar"; }
+const char* to_string(KernelIsa isa) {
+  switch (isa) {
+    case KernelIsa::kScalar: return "scalar";
+    case KernelIsa::kAvx2: return "avx2";
+    case KernelIsa::kAvx512Vl: return "avx512vl";
+  }
+  return "?";
+}
 
 bool kernels_available(KernelIsa isa) {
-  if (isa == KernelIsa::kScalar) return true;
+  switch (isa) {
+    case KernelIsa::kScalar: return true;
+    case KernelIsa::kAvx2: {
 #ifdef BIVO_HAVE_AVX2_KERNELS
-  static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return cpu;
+      static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+      return cpu;
 #else
-  return false;
+      return false;
 #endif
+    }
+    case KernelIsa::kAvx512Vl: {
+#ifdef BIVO_HAVE_AVX512VL_KERNELS
+      static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                              __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+      return cpu;
+#else
+      return false;
+#endif
+    }
+  }
+  return false;
 }
 
 const KernelTable& kernels(KernelIsa isa) {
   if (!kernels_available(isa)) {
     throw Error(std::string("per-pixel kernels for ") + to_string(isa) +
-                " are not available (not built in, or this CPU lacks AVX2/FMA)");
+                " are not available (not built in, or this CPU lacks the instructions)");
   }
+#ifdef BIVO_HAVE_AVX512VL_KERNELS
+  if (isa == KernelIsa::kAvx512Vl) return avx512vl_kernel_table();
+#endif
 #ifdef BIVO_HAVE_AVX2_KERNELS
   if (isa == KernelIsa::kAvx2) return avx2_kernel_table();
 #endif
@@ -36,7 +63,9 @@ const KernelTable& kernels(KernelIsa isa) {
 }
 
 const KernelTable& default_kernels() {
-  static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx2) ? KernelIsa::kAvx2 : KernelIsa::kScalar);
+  static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx512Vl) ? KernelIsa::kAvx512Vl
+                                            : kernels_available(KernelIsa::kAvx2)   ? KernelIsa::kAvx2
+                                                                                    : KernelIsa::kScalar);
   return table;
 }
 

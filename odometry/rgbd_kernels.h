@@ -28,7 +28,8 @@ constexpr std::size_t kChunkTerms = 4096;  // one unit of parallel work
 inline std::size_t padded_terms(std::size_t n) { return (n + kLaneGroup - 1) / kLaneGroup * kLaneGroup; }
 inline int chunk_count(std::size_t n) { return static_cast<int>((n + kChunkTerms - 1) / kChunkTerms); }
 
-enum class KernelIsa { kScalar, kAvx2 };
+// kAvx512Vl: the AVX2 kernels encoded with AVX-512VL (32 registers), bit-identical to kAvx2.
+enum class KernelIsa { kScalar, kAvx2, kAvx512Vl };
 const char* to_string(KernelIsa isa);
 
 // Which objectives a pass builds (single / depth build one, the others both).
@@ -141,7 +142,8 @@ struct KernelTable {
                                  const TermBuffers&, std::size_t begin, std::size_t end);
 };
 
-// The best instruction set built in and supported by this CPU (AVX2 + FMA, else scalar).
+// The best instruction set built in and supported by this CPU (AVX-512VL, else AVX2 + FMA,
+// else scalar).
 const KernelTable& default_kernels();
 bool kernels_available(KernelIsa isa);
 // Throws bivo::Error when the instruction set is not built in or not supported here.

@@ -86,7 +86,7 @@ double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).
 }  // namespace
 
 TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
-  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2}) {
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl}) {
     if (!kernels_available(isa)) continue;
     SCOPED_TRACE(to_string(isa));
     RgbdOdometryProblem p(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0]);
@@ -124,6 +124,49 @@ TEST(RgbdKernels, ScalarAndAvx2KernelsAgree) {
   EXPECT_LT(std::abs(fs[0] - fv[0]), 1e-5 * fs[0]);
   // At the truth F_D is ~1e-14 (an exact plane): below that, float rounding (FMA or not) rules.
   EXPECT_LT(std::abs(fs[1] - fv[1]), std::max(1e-5 * fs[1], 1e-8));
+}
+
+// The AVX-512VL build compiles the AVX2 source with 32 registers: the same operations in the
+// same order, so every sum must come out bit for bit as AVX2's (a second implementation of
+// the same arithmetic as the oracle), for each weight stage and gradient source.
+TEST(RgbdKernels, Avx512VlKernelsAreBitIdenticalToAvx2) {
+  if (!kernels_available(KernelIsa::kAvx2) || !kernels_available(KernelIsa::kAvx512Vl)) {
+    GTEST_SKIP() << "no AVX2 or AVX-512VL kernels on this build / CPU";
+  }
+  const RgbdLevel& a = scene().reference.pyramid.levels[0];
+  const RgbdLevel& b = scene().current.pyramid.levels[0];
+  struct Case {
+    const char* name;
+    RgbdProblemOptions options;
+  };
+  std::vector<Case> cases(4);
+  cases[0].name = "both objectives, forward";
+  cases[1].name = "joint weights, inverse";
+  cases[1].options.joint_weights = true;
+  cases[1].options.jacobian = JacobianKind::kInverse;
+  cases[2].name = "intensity only, esm";
+  cases[2].options.model_f2 = false;
+  cases[2].options.jacobian = JacobianKind::kEsm;
+  cases[3].name = "huber, two threads";
+  cases[3].options.weights.kind = WeightKind::kHuber;
+  cases[3].options.threads = 2;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    RgbdOdometryProblem avx2(a, b, c.options), vl(a, b, c.options);
+    avx2.set_kernel_isa(KernelIsa::kAvx2);
+    vl.set_kernel_isa(KernelIsa::kAvx512Vl);
+    const Eigen::VectorXd x = near_truth();
+    const auto l2 = avx2.linearize(x, {}), lv = vl.linearize(x, {});
+    EXPECT_EQ(lv.f1.a, l2.f1.a);
+    EXPECT_EQ(lv.f2.a, l2.f2.a);
+    EXPECT_TRUE(lv.f1.H == l2.f1.H && lv.f2.H == l2.f2.H);
+    EXPECT_TRUE(lv.f1.b == l2.f1.b && lv.f2.b == l2.f2.b);
+    EXPECT_EQ(vl.last_stats().sigma_intensity, avx2.last_stats().sigma_intensity);
+    EXPECT_EQ(vl.last_stats().sigma_depth, avx2.last_stats().sigma_depth);
+    EXPECT_EQ(vl.last_stats().valid_depth, avx2.last_stats().valid_depth);
+    const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
+    EXPECT_EQ(vl.evaluate(x2), avx2.evaluate(x2));
+  }
 }
 
 TEST(RgbdKernels, ResultsAreBitIdenticalForEveryThreadCount) {
