@@ -124,7 +124,9 @@ void BM_OdometryReferenceTerms(benchmark::State& state) {
   state.counters["terms"] = static_cast<double>(terms);
 }
 
-// One level-0 evaluate() at a new pose: the warp with F summed under the stored weights.
+// One evaluate() at a new pose: the warp with F summed under the stored weights, at level 0
+// or a coarser level (level 2's working set fits the L2 cache: equal ns per term at both
+// levels says the warp is bound by its instructions, not by memory).
 void BM_OdometryEvaluateLevel0(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
   const KernelIsa isa = isa_of(state.range(0));
@@ -132,9 +134,12 @@ void BM_OdometryEvaluateLevel0(benchmark::State& state) {
     state.SkipWithError("kernels not available on this CPU / build");
     return;
   }
-  RgbdOdometryProblem problem(pair->reference.pyramid.levels[0], pair->current.pyramid.levels[0]);
+  const auto level = static_cast<std::size_t>(state.range(1));
+  RgbdOdometryProblem problem(pair->reference.pyramid.levels[level], pair->current.pyramid.levels[level]);
   problem.set_kernel_isa(isa);
   state.SetLabel(to_string(isa));
+  state.counters["ns_per_term"] = benchmark::Counter(
+      problem.num_terms(), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   Eigen::VectorXd x = bivo::solvers::se3::to_ambient(*pair->groundtruth_T21);
   problem.linearize(x, {});
   for (auto _ : state) {
@@ -223,7 +228,13 @@ BENCHMARK(BM_OdometryLinearizeLevel0)
     ->Args({1, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_OdometryEvaluateLevel0)->ArgName("isa")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OdometryEvaluateLevel0)
+    ->ArgNames({"isa", "level"})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({1, 2})
+    ->Args({2, 2})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryReferenceTerms)
     ->ArgNames({"threads", "gradients"})
     ->Args({1, 0})

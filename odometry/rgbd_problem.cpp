@@ -222,15 +222,20 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
     model_.kind = WeightModel::kStored;
     return;
   }
-  if (mask.intensity) {
-    const ResidualSet set{r_i_.data(), flags(), 1, at.valid_i, at.ss_i};
-    // Warm start: the scale changes little between the iterations of one problem.
+  // Warm start: the scale changes little between the iterations of one problem.
+  const ResidualSet intensity{r_i_.data(), flags(), 1, at.valid_i, at.ss_i};
+  const ResidualSet depth{r_d_.data(), flags(), 2, at.valid_d, at.ss_d};
+  if (mask.intensity && mask.depth) {
+    const std::array<double, 2> sigma =
+        estimate_scales(intensity, depth, n, options_.weights, {stats_.sigma_intensity, stats_.sigma_depth},
+                        *kernels_, options_.threads);
+    stats_.sigma_intensity = sigma[0];
+    stats_.sigma_depth = sigma[1];
+  } else if (mask.intensity) {
     stats_.sigma_intensity =
-        estimate_scale(set, n, options_.weights, stats_.sigma_intensity, *kernels_, options_.threads);
-  }
-  if (mask.depth) {
-    const ResidualSet set{r_d_.data(), flags(), 2, at.valid_d, at.ss_d};
-    stats_.sigma_depth = estimate_scale(set, n, options_.weights, stats_.sigma_depth, *kernels_, options_.threads);
+        estimate_scale(intensity, n, options_.weights, stats_.sigma_intensity, *kernels_, options_.threads);
+  } else if (mask.depth) {
+    stats_.sigma_depth = estimate_scale(depth, n, options_.weights, stats_.sigma_depth, *kernels_, options_.threads);
   }
   const WeightModel fresh = weight_model(options_.weights, stats_.sigma_intensity, stats_.sigma_depth);
   model_.kind = fresh.kind;

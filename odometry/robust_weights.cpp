@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "odometry/parallel_chunks.h"
@@ -33,26 +34,56 @@ namespace {
 // instead when g' is near 1 or the Newton step leaves [min(s, g) / 2, 2 max(s, g)]. Newton
 // needs ~2-3 passes over the residuals where the plain iteration took ~14 per linearization
 // (counted on fr1/rpy). Stops when a step changes sigma^2 by <= scale_tolerance; 0 when it
-// does not converge to a positive finite value.
+// does not converge to a positive finite value. One pass at a time (update()), so that the
+// two objectives' iterations can share their passes (estimate_scales()).
+class ScaleIteration {
+ public:
+  ScaleIteration(long long count, double sum_squares, const WeightOptions& options, double initial_sigma)
+      : count_(count),
+        max_iterations_(options.max_scale_iterations),
+        tolerance_(options.scale_tolerance),
+        sigma2_(initial_sigma > 0.0 ? initial_sigma * initial_sigma : sum_squares / double(count)) {}
+  bool running() const { return !stopped_ && iterations_ < max_iterations_; }
+  double inv_scale2() const { return 1.0 / sigma2_; }
+  void update(const ScaleSums& s) {
+    const double g = s.sum / double(count_);
+    const double slope = s.slope / (double(count_) * sigma2_);  // g'(sigma^2), in [0, g / sigma^2)
+    double next = g;
+    if (slope < 0.9) {
+      const double newton = sigma2_ + (g - sigma2_) / (1.0 - slope);
+      if (newton >= 0.5 * std::min(sigma2_, g) && newton <= 2.0 * std::max(sigma2_, g)) next = newton;
+    }
+    const bool done = std::abs(next - sigma2_) <= tolerance_ * sigma2_;
+    sigma2_ = next;
+    ++iterations_;
+    if (done || !(sigma2_ > 0.0)) stopped_ = true;
+  }
+  double sigma() const { return sigma2_ > 0.0 && std::isfinite(sigma2_) ? std::sqrt(sigma2_) : 0.0; }
+
+ private:
+  long long count_;
+  int max_iterations_;
+  double tolerance_;
+  double sigma2_;
+  int iterations_ = 0;
+  bool stopped_ = false;
+};
+
 template <class ScaleSumsFn>
 double t_fixed_point(const ScaleSumsFn& scale_sums, long long count, double sum_squares, const WeightOptions& options,
                      double initial_sigma) {
-  double sigma2 = initial_sigma > 0.0 ? initial_sigma * initial_sigma : sum_squares / double(count);
-  for (int it = 0; it < options.max_scale_iterations; ++it) {
-    const ScaleSums s = scale_sums(1.0 / sigma2);
-    const double g = s.sum / double(count);
-    const double slope = s.slope / (double(count) * sigma2);  // g'(sigma^2), in [0, g / sigma^2)
-    double next = g;
-    if (slope < 0.9) {
-      const double newton = sigma2 + (g - sigma2) / (1.0 - slope);
-      if (newton >= 0.5 * std::min(sigma2, g) && newton <= 2.0 * std::max(sigma2, g)) next = newton;
-    }
-    const bool done = std::abs(next - sigma2) <= options.scale_tolerance * sigma2;
-    sigma2 = next;
-    if (done || !(sigma2 > 0.0)) break;
-  }
-  if (!(sigma2 > 0.0) || !std::isfinite(sigma2)) return 0.0;
-  return std::sqrt(sigma2);
+  ScaleIteration it(count, sum_squares, options, initial_sigma);
+  while (it.running()) it.update(scale_sums(it.inv_scale2()));
+  return it.sigma();
+}
+
+// A scale that needs no fixed-point iteration: 0 without valid residuals, the RMS for
+// unit weights or zero residuals; nullopt when the t fixed point must be run.
+std::optional<double> direct_scale(const ResidualSet& set, const WeightOptions& options) {
+  if (set.valid == 0) return 0.0;
+  const double rms = std::sqrt(set.sum_squares / double(set.valid));
+  if (set.sum_squares == 0.0 || options.kind == WeightKind::kNone) return rms;
+  return std::nullopt;
 }
 
 // 1.4826 median |r| over the valid residuals (MAD about zero: residuals at the optimum are
@@ -121,9 +152,7 @@ double compute_weights(const float* residuals, const unsigned char* valid, std::
 
 double estimate_scale(const ResidualSet& set, std::size_t terms, const WeightOptions& options, double initial_sigma,
                       const KernelTable& kernels, int threads) {
-  if (set.valid == 0) return 0.0;
-  const double rms = std::sqrt(set.sum_squares / double(set.valid));
-  if (set.sum_squares == 0.0 || options.kind == WeightKind::kNone) return rms;
+  if (const std::optional<double> direct = direct_scale(set, options)) return *direct;
   if (options.kind == WeightKind::kHuber) {
     std::vector<float> absr;
     absr.reserve(static_cast<std::size_t>(set.valid));
@@ -141,6 +170,42 @@ double estimate_scale(const ResidualSet& set, std::size_t terms, const WeightOpt
         });
       },
       set.valid, set.sum_squares, options, initial_sigma);
+}
+
+std::array<double, 2> estimate_scales(const ResidualSet& intensity, const ResidualSet& depth, std::size_t terms,
+                                      const WeightOptions& options, std::array<double, 2> initial_sigma,
+                                      const KernelTable& kernels, int threads) {
+  const std::optional<double> direct_i = direct_scale(intensity, options), direct_d = direct_scale(depth, options);
+  if (direct_i || direct_d || options.kind != WeightKind::kTDistribution) {
+    return {estimate_scale(intensity, terms, options, initial_sigma[0], kernels, threads),
+            estimate_scale(depth, terms, options, initial_sigma[1], kernels, threads)};
+  }
+  // Both t fixed points in lockstep: each pass sums both objectives' residuals while both
+  // iterate (per chunk the same sums as estimate_scale's, added in the same order).
+  struct Pair {
+    ScaleSums i, d;
+    void add(const Pair& o) {
+      i.add(o.i);
+      d.add(o.d);
+    }
+  };
+  ScaleIteration it_i(intensity.valid, intensity.sum_squares, options, initial_sigma[0]);
+  ScaleIteration it_d(depth.valid, depth.sum_squares, options, initial_sigma[1]);
+  const float nu = static_cast<float>(options.nu);
+  const std::size_t padded = padded_terms(terms);
+  while (it_i.running() || it_d.running()) {
+    const bool run_i = it_i.running(), run_d = it_d.running();
+    const float inv_i = static_cast<float>(it_i.inv_scale2()), inv_d = static_cast<float>(it_d.inv_scale2());
+    const Pair sums = sum_over_chunks<Pair>(padded, kChunkTerms, threads, [&](std::size_t b, std::size_t e) {
+      Pair p;
+      if (run_i) p.i = kernels.t_scale_sums(intensity.r, b, e, nu, inv_i);
+      if (run_d) p.d = kernels.t_scale_sums(depth.r, b, e, nu, inv_d);
+      return p;
+    });
+    if (run_i) it_i.update(sums.i);
+    if (run_d) it_d.update(sums.d);
+  }
+  return {it_i.sigma(), it_d.sigma()};
 }
 
 WeightModel weight_model(const WeightOptions& options, double sigma_i, double sigma_d) {

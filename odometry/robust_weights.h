@@ -12,6 +12,7 @@
 // The weight stage of RgbdOdometryProblem is split in two: estimate_weight_model() finds the
 // scales (the part that needs every residual), and the kernels apply the resulting
 // WeightModel term by term, fused into the normal-equation pass (rgbd_kernels.h).
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -56,6 +57,13 @@ struct ResidualSet {
 // threads; initial_sigma warm-starts the t fixed point.
 double estimate_scale(const ResidualSet& set, std::size_t terms, const WeightOptions& options, double initial_sigma,
                       const KernelTable& kernels, int threads);
+
+// Both objectives' scales, each exactly as estimate_scale() finds it, with the two
+// t fixed points sharing their passes over the buffers (one pass and, with threads, one
+// parallel region per step instead of two).
+std::array<double, 2> estimate_scales(const ResidualSet& intensity, const ResidualSet& depth, std::size_t terms,
+                                      const WeightOptions& options, std::array<double, 2> initial_sigma,
+                                      const KernelTable& kernels, int threads);
 
 // The WeightModel that applies `options` with scales sigma_i, sigma_d (0: unit weights, the
 // compute_weights() convention for an objective without usable residuals).

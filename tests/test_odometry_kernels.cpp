@@ -4,6 +4,7 @@
 // first-order image motion computed point by point. A procedural scene (a slanted textured
 // plane seen from two poses, with holes in the depth) needs no data files.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -11,6 +12,7 @@
 
 #include "odometry/image_statistics.h"
 #include "odometry/rgbd_problem.h"
+#include "odometry/robust_weights.h"
 #include "odometry/tracker.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
@@ -167,6 +169,56 @@ TEST(RgbdKernels, Avx512VlKernelsAreBitIdenticalToAvx2) {
     const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
     EXPECT_EQ(vl.evaluate(x2), avx2.evaluate(x2));
   }
+}
+
+// estimate_scales runs both objectives' t fixed points in shared passes: each scale must be
+// bit for bit what estimate_scale finds alone (the oracle), also when one iteration stops
+// before the other (different warm starts), when one objective has no valid residual, with
+// Huber weights, and on two threads; and each must satisfy its fixed-point equation.
+TEST(RobustWeights, SharedScalePassesGiveEachObjectivesOwnScale) {
+  const std::size_t n = 3 * kChunkTerms + 77;
+  std::vector<float> ri(padded_terms(n), 0.0f), rd(padded_terms(n), 0.0f);
+  std::vector<std::uint8_t> flags(padded_terms(n), 0);
+  ResidualSet si{ri.data(), flags.data(), 1, 0, 0.0}, sd{rd.data(), flags.data(), 2, 0, 0.0};
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = 0.37 * double(k);
+    ri[k] = static_cast<float>(0.05 * std::sin(t) + (k % 17 == 0 ? 0.6 : 0.0));  // outliers
+    rd[k] = static_cast<float>(0.004 * std::cos(1.3 * t));
+    flags[k] = k % 5 == 0 ? 1 : 3;  // every fifth term has no depth residual
+    if (flags[k] & 2) {
+      sd.valid += 1;
+      sd.sum_squares += double(rd[k]) * rd[k];
+    } else {
+      rd[k] = 0.0f;
+    }
+    si.valid += 1;
+    si.sum_squares += double(ri[k]) * ri[k];
+  }
+  const KernelTable& kernels = default_kernels();
+  WeightOptions o;
+  for (int threads : {1, 2}) {
+    for (const std::array<double, 2> start : {std::array<double, 2>{0.0, 0.0}, {0.04, 0.1}, {0.5, 0.003}}) {
+      const auto both = estimate_scales(si, sd, n, o, start, kernels, threads);
+      EXPECT_EQ(both[0], estimate_scale(si, n, o, start[0], kernels, threads));
+      EXPECT_EQ(both[1], estimate_scale(sd, n, o, start[1], kernels, threads));
+      for (int j = 0; j < 2; ++j) {  // sigma^2 = mean over valid terms of r^2 (nu + 1) / (nu + r^2 / sigma^2)
+        const std::vector<float>& r = j == 0 ? ri : rd;
+        const double s2 = both[j] * both[j];
+        double g = 0.0;
+        for (std::size_t k = 0; k < n; ++k) g += double(r[k]) * r[k] * (o.nu + 1.0) / (o.nu + double(r[k]) * r[k] / s2);
+        EXPECT_NEAR(g / double(j == 0 ? si.valid : sd.valid), s2, 1e-3 * s2);
+      }
+    }
+  }
+  ResidualSet none = sd;
+  none.valid = 0;
+  none.sum_squares = 0.0;
+  EXPECT_EQ(estimate_scales(si, none, n, o, {0.0, 0.0}, kernels, 1)[1], 0.0);
+  EXPECT_EQ(estimate_scales(si, none, n, o, {0.0, 0.0}, kernels, 1)[0], estimate_scale(si, n, o, 0.0, kernels, 1));
+  o.kind = WeightKind::kHuber;
+  const auto huber = estimate_scales(si, sd, n, o, {0.0, 0.0}, kernels, 1);
+  EXPECT_EQ(huber[0], estimate_scale(si, n, o, 0.0, kernels, 1));
+  EXPECT_EQ(huber[1], estimate_scale(sd, n, o, 0.0, kernels, 1));
 }
 
 TEST(RgbdKernels, ResultsAreBitIdenticalForEveryThreadCount) {
