@@ -10,6 +10,7 @@
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
 #include "odometry/io/atomic_file.h"
+#include "odometry/rgbd_kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -137,6 +138,10 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
     }
   }
   std::ostringstream md, csv;
+  // Per-phase times depend on the kernels' instruction set: name it beside them.
+  const std::string kernels = odometry::to_string(odometry::default_kernels().isa);
+  md << "Per-pixel kernels: " << kernels << " (the best instruction set of this CPU; avx2 and avx512vl give "
+        "bit-identical results)\n\n";
   md << "Time per frame pair by phase [ms] (mean over pairs; 'a/b' is a part of phase 'a'; 'unrecorded' = total "
         "minus the phases):\n\n"
         "| method | backend | pairs | total |";
@@ -177,7 +182,8 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
     md << std::defaultfloat;
     j.push_back({{"method", r.method}, {"backend", r.backend}, {"pairs", r.pairs}, {"total_ms", r.total_ms},
                  {"phase_ms", r.phase_ms}, {"iterations_per_level", r.iterations_per_level},
-                 {"f_i_gap_per_level", r.f_i_gap}, {"f_d_ratio_per_level", r.f_d_ratio}, {"note", r.note}});
+                 {"f_i_gap_per_level", r.f_i_gap}, {"f_d_ratio_per_level", r.f_d_ratio}, {"note", r.note},
+                 {"kernels", kernels}});
   }
   md << "\nOuter iterations per pyramid level (mean over pairs; level 0 = full resolution), and per level the "
         "gap to the single-objective Gauss-Newton solution: (F_I - F_I,gn)/F_I,gn and F_D/F_D,gn:\n\n| method | "

@@ -1,14 +1,21 @@
 // Experiment plumbing against hand-written expectations: result tables (best per column,
-// missing entries, CSV quoting), the log grid of the sweeps, the progress-bar text.
+// missing entries, CSV quoting), the log grid of the sweeps, the progress-bar text, the
+// profile report's header.
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "experiments/method_matrix.h"
 #include "experiments/parameter_sweep.h"
+#include "experiments/profile_study.h"
 #include "experiments/progress_bar.h"
 #include "experiments/result_table.h"
+#include "odometry/rgbd_kernels.h"
 #include "solvers/error.h"
+
+#include <nlohmann/json.hpp>
 
 using namespace bivo;
 using namespace bivo::experiments;
@@ -67,4 +74,25 @@ TEST(ProgressBar, FormatShowsCountRateAndEta) {
   EXPECT_EQ(ProgressBar::format("seq", 0, 90, 0.0, 4), "seq [....] 0/90");
   ProgressBar off("x", 10, 0);
   EXPECT_FALSE(off.enabled());
+}
+
+// The profile report names the kernels its times were measured with, in the text and per row
+// of the JSON (timings from different instruction sets are not comparable).
+TEST(ProfileReport, NamesTheKernelsBesideTheTimes) {
+  ProfileRow row;
+  row.method = "weighted";
+  row.backend = "gn";
+  row.pairs = 3;
+  row.total_ms = 4.5;
+  row.phase_ms = {{"residuals", 2.0}, {"normal_equations", 1.5}};
+  row.iterations_per_level = {1.0, 2.0};
+  const std::string dir = ::testing::TempDir() + "/bivo_profile_report";
+  const std::string md = write_profile({row}, dir);
+  const std::string isa = odometry::to_string(odometry::default_kernels().isa);
+  EXPECT_NE(md.find("Per-pixel kernels: " + isa + " "), std::string::npos) << md;
+  std::ifstream json(dir + "/profile.json");
+  const nlohmann::json j = nlohmann::json::parse(json);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0].at("kernels"), isa);
+  EXPECT_DOUBLE_EQ(j[0].at("total_ms").get<double>(), 4.5);
 }
