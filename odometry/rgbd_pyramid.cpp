@@ -108,43 +108,55 @@ inline void load_blocks(const float* r0, const float* r1, int x, Lanes& a, Lanes
   d = __builtin_shuffle(q0, q1, odd);
 }
 
-__attribute__((target_clones("avx2", "default"))) void mean4_rows(const ImageF& fine, ImageF& coarse, int y0,
-                                                                  int y1) {
+// Rows [y0, y1) of the coarse image: `lanes` on eight coarse pixels at a time, `pixel` on the
+// rows' remainder. Always inlined into the two clones below, so that each compiles the lane
+// operations for its own instruction set (a clone cannot be a template).
+template <class LaneReduce, class PixelReduce>
+__attribute__((always_inline)) inline void reduce_rows(const ImageF& fine, ImageF& coarse, int y0, int y1,
+                                                       const LaneReduce& lanes, const PixelReduce& pixel) {
   for (int y = y0; y < y1; ++y) {
     const float* r0 = fine.data.data() + static_cast<std::size_t>(2 * y) * fine.width;
     const float* r1 = r0 + fine.width;
     float* out = coarse.data.data() + static_cast<std::size_t>(y) * coarse.width;
     int x = 0;
     for (; x + 8 <= coarse.width; x += 8) {
-      Lanes a, b, c, d;
+      Lanes a, b, c, d, m;
       load_blocks(r0, r1, x, a, b, c, d);
-      const Lanes m = 0.25f * (a + b + c + d);
+      lanes(a, b, c, d, m);
       std::memcpy(out + x, &m, sizeof m);
     }
-    for (; x < coarse.width; ++x) out[x] = mean4(r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
+    for (; x < coarse.width; ++x) out[x] = pixel(r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
   }
+}
+
+// The lane forms of Mean4 and MeanValid4 (output by reference: see load_lanes in
+// image_statistics.cpp on the baseline clone's ABI).
+struct Mean4Lanes {
+  __attribute__((always_inline)) void operator()(const Lanes& a, const Lanes& b, const Lanes& c, const Lanes& d,
+                                                 Lanes& m) const {
+    m = 0.25f * (a + b + c + d);
+  }
+};
+struct MeanValid4Lanes {
+  __attribute__((always_inline)) void operator()(const Lanes& a, const Lanes& b, const Lanes& c, const Lanes& d,
+                                                 Lanes& m) const {
+    const Lanes zero = {};
+    const Lanes one = zero + 1.0f;
+    const LaneInts va = a > zero, vb = b > zero, vc = c > zero, vd = d > zero;
+    const Lanes sum = (va ? a : zero) + (vb ? b : zero) + (vc ? c : zero) + (vd ? d : zero);
+    const Lanes count = (va ? one : zero) + (vb ? one : zero) + (vc ? one : zero) + (vd ? one : zero);
+    m = count > zero ? sum / count : zero;
+  }
+};
+
+__attribute__((target_clones("avx2", "default"))) void mean4_rows(const ImageF& fine, ImageF& coarse, int y0,
+                                                                  int y1) {
+  reduce_rows(fine, coarse, y0, y1, Mean4Lanes{}, mean4);
 }
 
 __attribute__((target_clones("avx2", "default"))) void mean_valid4_rows(const ImageF& fine, ImageF& coarse, int y0,
                                                                         int y1) {
-  const Lanes zero = {};
-  const Lanes one = zero + 1.0f;
-  for (int y = y0; y < y1; ++y) {
-    const float* r0 = fine.data.data() + static_cast<std::size_t>(2 * y) * fine.width;
-    const float* r1 = r0 + fine.width;
-    float* out = coarse.data.data() + static_cast<std::size_t>(y) * coarse.width;
-    int x = 0;
-    for (; x + 8 <= coarse.width; x += 8) {
-      Lanes a, b, c, d;
-      load_blocks(r0, r1, x, a, b, c, d);
-      const LaneInts va = a > zero, vb = b > zero, vc = c > zero, vd = d > zero;
-      const Lanes sum = (va ? a : zero) + (vb ? b : zero) + (vc ? c : zero) + (vd ? d : zero);
-      const Lanes count = (va ? one : zero) + (vb ? one : zero) + (vc ? one : zero) + (vd ? one : zero);
-      const Lanes m = count > zero ? sum / count : zero;
-      std::memcpy(out + x, &m, sizeof m);
-    }
-    for (; x < coarse.width; ++x) out[x] = mean_valid4(r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
-  }
+  reduce_rows(fine, coarse, y0, y1, MeanValid4Lanes{}, mean_valid4);
 }
 
 void interleave_rows(const RgbdLevel& L, PooledFloats& out, int y0, int y1) {

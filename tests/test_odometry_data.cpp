@@ -287,6 +287,29 @@ TEST(Pyramid, IntensityAveragesAndDepthIgnoresMissing) {
   const ImageF Dc = downsample_depth(D);
   EXPECT_FLOAT_EQ(Dc.data[0], 1.5f);  // mean of the two valid values, not of four
   EXPECT_FLOAT_EQ(Dc.data[1], 0.0f);  // nothing valid stays missing
+  // A coarse width of 19: two groups of eight lanes and a remainder of three, every pixel
+  // against the per-pixel formula, bit for bit (the lanes promise the same operations in the
+  // same order), with missing depths scattered over the blocks.
+  const int W = 38, H = 6;
+  ImageF In{W, H, std::vector<float>(W * H)}, Dn{W, H, std::vector<float>(W * H)};
+  for (int i = 0; i < W * H; ++i) {
+    In.data[i] = static_cast<float>(std::sin(0.37 * i) * 100.0 + 0.1 * i);
+    Dn.data[i] = i % 3 == 0 || i % 7 == 0 ? 0.0f : static_cast<float>(1.0 + 0.013 * i);
+  }
+  const ImageF In2 = downsample_intensity(In), Dn2 = downsample_depth(Dn);
+  ASSERT_EQ(In2.width, 19);
+  for (int y = 0; y < H / 2; ++y) {
+    for (int x = 0; x < W / 2; ++x) {
+      const auto at = [&](const ImageF& f, int dx, int dy) { return f.data[(2 * y + dy) * W + 2 * x + dx]; };
+      EXPECT_EQ(In2.data[y * 19 + x], 0.25f * (at(In, 0, 0) + at(In, 1, 0) + at(In, 0, 1) + at(In, 1, 1)));
+      float sum = 0.0f, count = 0.0f;
+      for (const float d : {at(Dn, 0, 0), at(Dn, 1, 0), at(Dn, 0, 1), at(Dn, 1, 1)}) {
+        sum += d > 0.0f ? d : 0.0f;
+        count += d > 0.0f ? 1.0f : 0.0f;
+      }
+      EXPECT_EQ(Dn2.data[y * 19 + x], count > 0.0f ? sum / count : 0.0f) << x << "," << y;
+    }
+  }
   RgbdImage im;
   im.width = 64;
   im.height = 48;
