@@ -41,9 +41,9 @@ const FramePair* shared_pair() {
     return;                                                                 \
   }
 
-// Benchmark argument -> kernels: 0 scalar, 1 avx2, 2 avx512vl.
+// Benchmark argument -> kernels: 0 scalar, 1 avx2, 2 avx512vl, 3 avx512 (sixteen lanes).
 KernelIsa isa_of(std::int64_t arg) {
-  return arg == 2 ? KernelIsa::kAvx512Vl : arg == 1 ? KernelIsa::kAvx2 : KernelIsa::kScalar;
+  return arg == 3 ? KernelIsa::kAvx512 : arg == 2 ? KernelIsa::kAvx512Vl : arg == 1 ? KernelIsa::kAvx2 : KernelIsa::kScalar;
 }
 
 void BM_OdometryPair(benchmark::State& state, const std::string& method, const std::string& backend) {
@@ -220,11 +220,13 @@ BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), 
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryPrepareFrame)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OdometryLinearizeLevel0)
-    ->ArgNames({"isa", "threads", "joint"})  // isa: 0 scalar, 1 avx2, 2 avx512vl
+    ->ArgNames({"isa", "threads", "joint"})  // isa: 0 scalar, 1 avx2, 2 avx512vl, 3 avx512
     ->Args({0, 1, 0})
     ->Args({1, 1, 0})
     ->Args({2, 1, 0})
+    ->Args({3, 1, 0})
     ->Args({1, 2, 0})
+    ->Args({3, 2, 0})
     ->Args({1, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
@@ -232,8 +234,10 @@ BENCHMARK(BM_OdometryEvaluateLevel0)
     ->ArgNames({"isa", "level"})
     ->Args({1, 0})
     ->Args({2, 0})
+    ->Args({3, 0})
     ->Args({1, 2})
     ->Args({2, 2})
+    ->Args({3, 2})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryReferenceTerms)
     ->ArgNames({"threads", "gradients"})

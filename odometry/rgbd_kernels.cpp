@@ -14,12 +14,16 @@ const KernelTable& avx2_kernel_table();
 #ifdef BIVO_HAVE_AVX512VL_KERNELS
 const KernelTable& avx512vl_kernel_table();
 #endif
+#ifdef BIVO_HAVE_AVX512_KERNELS
+const KernelTable& avx512_kernel_table();
+#endif
 
 const char* to_string(KernelIsa isa) {
   switch (isa) {
     case KernelIsa::kScalar: return "scalar";
     case KernelIsa::kAvx2: return "avx2";
     case KernelIsa::kAvx512Vl: return "avx512vl";
+    case KernelIsa::kAvx512: return "avx512";
   }
   return "?";
 }
@@ -44,6 +48,14 @@ bool kernels_available(KernelIsa isa) {
       return false;
 #endif
     }
+    case KernelIsa::kAvx512: {
+#ifdef BIVO_HAVE_AVX512_KERNELS
+      static const bool cpu = __builtin_cpu_supports("avx512f");
+      return cpu;
+#else
+      return false;
+#endif
+    }
   }
   return false;
 }
@@ -53,6 +65,9 @@ const KernelTable& kernels(KernelIsa isa) {
     throw Error(std::string("per-pixel kernels for ") + to_string(isa) +
                 " are not available (not built in, or this CPU lacks the instructions)");
   }
+#ifdef BIVO_HAVE_AVX512_KERNELS
+  if (isa == KernelIsa::kAvx512) return avx512_kernel_table();
+#endif
 #ifdef BIVO_HAVE_AVX512VL_KERNELS
   if (isa == KernelIsa::kAvx512Vl) return avx512vl_kernel_table();
 #endif
@@ -63,7 +78,8 @@ const KernelTable& kernels(KernelIsa isa) {
 }
 
 const KernelTable& default_kernels() {
-  static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx512Vl) ? KernelIsa::kAvx512Vl
+  static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx512)     ? KernelIsa::kAvx512
+                                            : kernels_available(KernelIsa::kAvx512Vl) ? KernelIsa::kAvx512Vl
                                             : kernels_available(KernelIsa::kAvx2)   ? KernelIsa::kAvx2
                                                                                     : KernelIsa::kScalar);
   return table;

@@ -22,14 +22,15 @@
 
 namespace bivo::odometry {
 
-constexpr std::size_t kLaneGroup = 8;      // buffers are padded to a multiple of this
+constexpr std::size_t kLaneGroup = 16;     // buffers are padded to a multiple of this (the widest lanes)
 constexpr std::size_t kFlushTerms = 1024;  // float lane sums -> double
 constexpr std::size_t kChunkTerms = 4096;  // one unit of parallel work
 inline std::size_t padded_terms(std::size_t n) { return (n + kLaneGroup - 1) / kLaneGroup * kLaneGroup; }
 inline int chunk_count(std::size_t n) { return static_cast<int>((n + kChunkTerms - 1) / kChunkTerms); }
 
 // kAvx512Vl: the AVX2 kernels encoded with AVX-512VL (32 registers), bit-identical to kAvx2.
-enum class KernelIsa { kScalar, kAvx2, kAvx512Vl };
+// kAvx512: sixteen lanes (AVX-512F), equal to kAvx2 up to float rounding (other lane sums).
+enum class KernelIsa { kScalar, kAvx2, kAvx512Vl, kAvx512 };
 const char* to_string(KernelIsa isa);
 
 // Which objectives a pass builds (single / depth build one, the others both).
@@ -142,8 +143,8 @@ struct KernelTable {
                                  const TermBuffers&, std::size_t begin, std::size_t end);
 };
 
-// The best instruction set built in and supported by this CPU (AVX-512VL, else AVX2 + FMA,
-// else scalar).
+// The best instruction set built in and supported by this CPU (AVX-512F sixteen lanes, else
+// AVX-512VL, else AVX2 + FMA, else scalar).
 const KernelTable& default_kernels();
 bool kernels_available(KernelIsa isa);
 // Throws bivo::Error when the instruction set is not built in or not supported here.

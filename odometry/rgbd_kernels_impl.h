@@ -265,8 +265,8 @@ NormalSums normal_equations(const NormalParams& p, const WeightModel& m, const R
   const LanePose<V> T(p.pose);
   const F zero = V::set(0.0f), one = V::set(1.0f);
   const bool want_i = p.objectives.intensity, want_d = p.objectives.depth;
-  alignas(32) float block_i[8][kBlockTerms];
-  alignas(32) float block_d[8][kBlockTerms];
+  alignas(64) float block_i[8][kBlockTerms];
+  alignas(64) float block_d[8][kBlockTerms];
   F acc_i[29], acc_d[29];
   for (int e = 0; e < 29; ++e) acc_i[e] = acc_d[e] = zero;
   NormalSums sums;
