@@ -50,7 +50,7 @@ ReferenceArrays ReferenceTerms::view() const {
 }
 
 ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
-                                    bool with_gradients, int threads) {
+                                    bool with_gradients, int threads, const KernelTable& kernels) {
   const ImageF& I = reference.intensity;
   const ImageF& D = reference.depth;
   const io::Intrinsics& K = reference.K;
@@ -63,33 +63,43 @@ ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth
   if (with_gradients) arrays.insert(arrays.end(), {&t.gi_u, &t.gi_v, &t.gd_u, &t.gd_v});
   for (PooledFloats* v : arrays) v->reset(padded_terms(D.data.size()));
   const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
+  const ReferenceOut out{t.x.data(), t.y.data(), t.z.data(), t.intensity.data()};
   // The terms of rows [y0, y1), the first at index k; returns the index after the last.
   const auto fill_rows = [&](int y0, int y1, std::size_t k) {
     for (int y = y0; y < y1; ++y) {
       const float* drow = D.data.data() + static_cast<std::size_t>(y) * D.width;
       const float* irow = I.data.data() + static_cast<std::size_t>(y) * I.width;
-      const double ry = (y - K.cy) * ify;
+      ReferenceRow row;
+      row.depth = drow;
+      row.intensity = irow;
+      row.width = D.width;
+      row.cx = K.cx;
+      row.ifx = ifx;
+      row.ry = (y - K.cy) * ify;
+      row.min_depth = min_depth;
+      row.max_depth = max_depth;
+      const std::size_t row_begin = k;
+      k = kernels.reference_row(row, out, k);
+      if (!with_gradients) continue;
+      // The same terms again, in the same order, for their reference gradients.
+      std::size_t g = row_begin;
       for (int x = 0; x < D.width; ++x) {
         if (!usable(drow[x])) continue;
-        const double z = drow[x];
-        t.x[k] = static_cast<float>((x - K.cx) * ifx * z);
-        t.y[k] = static_cast<float>(ry * z);
-        t.z[k] = drow[x];
-        t.intensity[k] = irow[x];
-        if (with_gradients) {
-          t.gi_u[k] = fx * row_derivative(irow, x, I.width, false);
-          t.gi_v[k] = fy * column_derivative(I, x, y, false);
-          t.gd_u[k] = fx * row_derivative(drow, x, D.width, true);
-          t.gd_v[k] = fy * column_derivative(D, x, y, true);
-        }
-        ++k;
+        t.gi_u[g] = fx * row_derivative(irow, x, I.width, false);
+        t.gi_v[g] = fy * column_derivative(I, x, y, false);
+        t.gd_u[g] = fx * row_derivative(drow, x, D.width, true);
+        t.gd_v[g] = fy * column_derivative(D, x, y, true);
+        ++g;
       }
     }
     return k;
   };
   const int chunks = (D.height + kRowsPerChunk - 1) / kRowsPerChunk;
   std::size_t k = 0;
-  if (threads > 1 && chunks > 1) {
+  // Vector rows without gradients are faster on one thread than counted and split
+  // (KernelTable::vector_reference_rows).
+  const bool split = threads > 1 && chunks > 1 && (with_gradients || !kernels.vector_reference_rows);
+  if (split) {
     // Threads: count each row chunk's terms, then every chunk writes from its own first
     // index: the same terms at the same indices as one pass in row order.
     std::vector<std::size_t> first(static_cast<std::size_t>(chunks) + 1, 0);

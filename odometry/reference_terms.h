@@ -28,10 +28,11 @@ struct ReferenceTerms {
   ReferenceArrays view() const;
 };
 
-// Rows are split over `threads` threads (oneTBB, parallel_chunks.h); the terms and their
-// order do not depend on it.
+// Rows are split over `threads` threads (oneTBB, parallel_chunks.h); each row's terms come
+// from the kernels' reference_row. The terms and their order depend on neither.
 ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
-                                    bool with_gradients, int threads = 1);
+                                    bool with_gradients, int threads = 1,
+                                    const KernelTable& kernels = default_kernels());
 
 // [I(0), D(0), I(1), D(1), ...] in row-major pixel order.
 std::vector<float> interleave_intensity_depth(const RgbdLevel& level);

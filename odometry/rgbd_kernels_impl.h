@@ -337,8 +337,26 @@ NormalSums normal_equations_any(const NormalParams& p, const WeightModel& m, con
 }
 
 template <class V>
+std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std::size_t k) {
+  int u = 0;
+  // Lane types that can compress (Avx512Lanes) do the whole lane groups of the row.
+  if constexpr (V::kCompressesRows) u = V::reference_row_groups(row, out, k);
+  for (; u < row.width; ++u) {
+    const double z = row.depth[u];
+    if (!(z >= row.min_depth && z <= row.max_depth)) continue;
+    out.x[k] = static_cast<float>((u - row.cx) * row.ifx * z);
+    out.y[k] = static_cast<float>(row.ry * z);
+    out.z[k] = row.depth[u];
+    out.intensity[k] = row.intensity[u];
+    ++k;
+  }
+  return k;
+}
+
+template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa, &warp<V>, &t_scale_sums<V>, &weigh_any<V>, &normal_equations_any<V>};
+  return {isa, &reference_row<V>, V::kCompressesRows, &warp<V>, &t_scale_sums<V>, &weigh_any<V>,
+          &normal_equations_any<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS

@@ -34,6 +34,7 @@ struct Cell {
 
 struct ScalarLanes {
   static constexpr int kWidth = 1;
+  static constexpr bool kCompressesRows = false;
   using F = float;
   using M = bool;
   using I = std::int32_t;
@@ -95,6 +96,7 @@ inline Avx2M operator|(Avx2M a, Avx2M b) { return {_mm256_or_ps(a.m, b.m)}; }
 
 struct Avx2Lanes {
   static constexpr int kWidth = 8;
+  static constexpr bool kCompressesRows = false;
   using F = Avx2F;
   using M = Avx2M;
   using I = __m256i;
@@ -202,6 +204,7 @@ inline Avx512M operator|(Avx512M a, Avx512M b) { return {static_cast<__mmask16>(
 
 struct Avx512Lanes {
   static constexpr int kWidth = 16;
+  static constexpr bool kCompressesRows = true;
   using F = Avx512F;
   using M = Avx512M;
   using I = __m512i;
@@ -237,6 +240,41 @@ struct Avx512Lanes {
     return s;
   }
 
+  // reference_row (rgbd_kernels_impl.h) over the row's whole groups of sixteen pixels: the
+  // same double operations in the same order, the usable lanes compressed to the front and
+  // stored under a mask (a store of all sixteen would write into the next row chunk, which
+  // another thread may be filling). Returns the first pixel not done; k moves on.
+  static int reference_row_groups(const ReferenceRow& row, const ReferenceOut& out, std::size_t& k) {
+    const __m512d iota = _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m512d cx = _mm512_set1_pd(row.cx), ifx = _mm512_set1_pd(row.ifx), ry = _mm512_set1_pd(row.ry);
+    const __m512d lo = _mm512_set1_pd(row.min_depth), hi = _mm512_set1_pd(row.max_depth);
+    int u = 0;
+    for (; u + 16 <= row.width; u += 16) {
+      const __m512 zf = _mm512_loadu_ps(row.depth + u);
+      const __m512d z[2] = {_mm512_cvtps_pd(_mm512_castps512_ps256(zf)),
+                            _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(zf), 1)))};
+      __m256 x[2], y[2];
+      unsigned m = 0;
+      for (int h = 0; h < 2; ++h) {
+        m |= static_cast<unsigned>(_mm512_cmp_pd_mask(z[h], lo, _CMP_GE_OQ) & _mm512_cmp_pd_mask(z[h], hi, _CMP_LE_OQ))
+             << (8 * h);
+        const __m512d col = _mm512_add_pd(_mm512_set1_pd(static_cast<double>(u + 8 * h)), iota);
+        x[h] = _mm512_cvtpd_ps(_mm512_mul_pd(_mm512_mul_pd(_mm512_sub_pd(col, cx), ifx), z[h]));
+        y[h] = _mm512_cvtpd_ps(_mm512_mul_pd(ry, z[h]));
+      }
+      if (m == 0) continue;
+      const __mmask16 keep = static_cast<__mmask16>(m);
+      const __mmask16 front = static_cast<__mmask16>((1u << __builtin_popcount(m)) - 1u);
+      const auto put = [&](float* p, __m512 v) { _mm512_mask_storeu_ps(p + k, front, _mm512_maskz_compress_ps(keep, v)); };
+      put(out.x, join(x[0], x[1]));
+      put(out.y, join(y[0], y[1]));
+      put(out.z, zf);
+      put(out.intensity, _mm512_loadu_ps(row.intensity + u));
+      k += static_cast<std::size_t>(__builtin_popcount(m));
+    }
+    return u;
+  }
+
   static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
     const __m512 x0 = _mm512_roundscale_ps(u.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
     const __m512 y0 = _mm512_roundscale_ps(v.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -265,6 +303,9 @@ struct Avx512Lanes {
   }
 
  private:
+  static __m512 join(__m256 low, __m256 high) {
+    return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(low)), _mm256_castps_pd(high), 1));
+  }
   static __m512 quarters(const float* q0, const float* q1, const float* q2, const float* q3) {
     __m512 r = _mm512_castps128_ps512(_mm_loadu_ps(q0));
     r = _mm512_insertf32x4(r, _mm_loadu_ps(q1), 1);

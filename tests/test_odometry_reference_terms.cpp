@@ -1,0 +1,111 @@
+// The reference terms of a level (reference_terms.h): every instruction set's row kernel
+// against a per-pixel oracle written here from the formulas, bit for bit, on a level whose
+// depth has holes, NaN and values outside [min, max], and whose width is not a multiple of
+// the sixteen lanes.
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "odometry/reference_terms.h"
+#include "odometry/rgbd_kernels.h"
+#include "odometry/rgbd_pyramid.h"
+
+using namespace bivo::odometry;
+
+namespace {
+
+constexpr double kMinDepth = 0.4, kMaxDepth = 6.0;
+
+RgbdLevel ragged_level() {
+  RgbdLevel level;
+  const int w = 53, h = 40;  // 53 = 3 x 16 + 5
+  level.K.fx = 517.3 / 2;
+  level.K.fy = 516.5 / 2;
+  level.K.cx = 318.6 / 2;
+  level.K.cy = 255.3 / 2;
+  for (ImageF* im : {&level.intensity, &level.depth}) {
+    im->width = w;
+    im->height = h;
+    im->data.assign(static_cast<std::size_t>(w) * h, 0.0f);
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      level.intensity.at(x, y) = static_cast<float>((x * 37 + y * 11) % 251) + 0.25f;
+      float z = 0.3f + 0.11f * static_cast<float>((x * 7 + y * 13) % 61);  // 0.3 .. 6.9 m
+      const int k = (x * 5 + y * 3) % 17;
+      if (k == 0) z = 0.0f;  // missing
+      if (k == 1) z = std::numeric_limits<float>::quiet_NaN();
+      if (y == 7) z = 0.0f;  // a row with no term at all
+      level.depth.at(x, y) = z;
+    }
+  }
+  return level;
+}
+
+}  // namespace
+
+TEST(ReferenceTerms, EveryKernelWritesTheTermsOfThePerPixelFormula) {
+  const RgbdLevel level = ragged_level();
+  const ImageF& D = level.depth;
+  // The oracle: row-major, depth in [min, max], back-projected in double.
+  std::vector<float> x, y, z, intensity;
+  for (int v = 0; v < D.height; ++v) {
+    for (int u = 0; u < D.width; ++u) {
+      const double d = D.at(u, v);
+      if (!(d >= kMinDepth && d <= kMaxDepth)) continue;
+      x.push_back(static_cast<float>((u - level.K.cx) * (1.0 / level.K.fx) * d));
+      y.push_back(static_cast<float>((v - level.K.cy) * (1.0 / level.K.fy) * d));
+      z.push_back(D.at(u, v));
+      intensity.push_back(level.intensity.at(u, v));
+    }
+  }
+  ASSERT_GT(x.size(), 500u);
+  ASSERT_LT(x.size(), D.data.size() * 3 / 4);  // holes and out-of-range depths are dropped
+  const auto floats = [](const PooledFloats& v, std::size_t n) { return std::vector<float>(v.data(), v.data() + n); };
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE(std::string(to_string(isa)) + ", threads " + std::to_string(threads));
+      const ReferenceTerms t = make_reference_terms(level, kMinDepth, kMaxDepth, false, threads, kernels(isa));
+      ASSERT_EQ(t.count, x.size());
+      EXPECT_EQ(floats(t.x, t.count), x);
+      EXPECT_EQ(floats(t.y, t.count), y);
+      EXPECT_EQ(floats(t.z, t.count), z);
+      EXPECT_EQ(floats(t.intensity, t.count), intensity);
+      ASSERT_EQ(t.x.size(), padded_terms(t.count));
+      for (std::size_t k = t.count; k < t.x.size(); ++k) EXPECT_EQ(t.z[k], 0.0f);  // padding
+      // With gradients: the same terms, and gradients of the terms in the same order.
+      const ReferenceTerms g = make_reference_terms(level, kMinDepth, kMaxDepth, true, threads, kernels(isa));
+      const ReferenceTerms g1 = make_reference_terms(level, kMinDepth, kMaxDepth, true, 1, kernels(KernelIsa::kScalar));
+      ASSERT_EQ(g.count, x.size());
+      EXPECT_EQ(floats(g.x, g.count), x);
+      EXPECT_EQ(floats(g.gi_u, g.count), floats(g1.gi_u, g1.count));
+      EXPECT_EQ(floats(g.gd_v, g.count), floats(g1.gd_v, g1.count));
+    }
+  }
+}
+
+// The gradient of a term is that of its own pixel: on an intensity ramp I = 3 u + 2 v, the
+// central differences are exact (fx dI/du = 3 fx, fy dI/dv = 2 fy) away from the borders.
+TEST(ReferenceTerms, GradientsBelongToTheirTerms) {
+  RgbdLevel level = ragged_level();
+  for (int v = 0; v < level.depth.height; ++v) {
+    for (int u = 0; u < level.depth.width; ++u) level.intensity.at(u, v) = static_cast<float>(3 * u + 2 * v);
+  }
+  const ReferenceTerms t = make_reference_terms(level, kMinDepth, kMaxDepth, true, 1);
+  int interior = 0;
+  for (std::size_t k = 0; k < t.count; ++k) {
+    // Recover the pixel from the back-projection.
+    const double u = t.x[k] / t.z[k] * level.K.fx + level.K.cx, v = t.y[k] / t.z[k] * level.K.fy + level.K.cy;
+    const long pu = std::lround(u), pv = std::lround(v);
+    if (pu <= 0 || pv <= 0 || pu >= level.depth.width - 1 || pv >= level.depth.height - 1) continue;
+    ++interior;
+    EXPECT_FLOAT_EQ(t.gi_u[k], static_cast<float>(3.0 * level.K.fx));
+    EXPECT_FLOAT_EQ(t.gi_v[k], static_cast<float>(2.0 * level.K.fy));
+  }
+  EXPECT_GT(interior, 300);
+}
