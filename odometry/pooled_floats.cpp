@@ -1,13 +1,14 @@
 #include "odometry/pooled_floats.h"
 
 #include <algorithm>
+#include <new>
 #include <vector>
 
 namespace bivo::odometry {
 namespace {
 
 struct Block {
-  std::unique_ptr<float[]> data;
+  AlignedFloats data;
   std::size_t capacity = 0;
 };
 
@@ -26,6 +27,8 @@ std::vector<Block>& pool() {
 }
 
 }  // namespace
+
+void AlignedFloatsDelete::operator()(float* p) const { ::operator delete[](p, std::align_val_t{kAlignment}); }
 
 PooledFloats::PooledFloats(std::size_t n) { reset(n); }
 
@@ -67,7 +70,8 @@ void PooledFloats::reset(std::size_t n) {
     blocks.erase(best);
   } else {
     capacity_ = n + n / 8;
-    data_.reset(new float[capacity_]);
+    data_.reset(static_cast<float*>(
+        ::operator new[](capacity_ * sizeof(float), std::align_val_t{AlignedFloatsDelete::kAlignment})));
   }
   size_ = n;
 }

@@ -15,6 +15,15 @@
 
 namespace bivo::odometry {
 
+// Blocks start on a 64-byte boundary (a cache line, one sixteen-lane vector): glibc places
+// large blocks 16 bytes past a page start, so every 64-byte load of the AVX-512 kernels
+// would straddle two cache lines.
+struct AlignedFloatsDelete {
+  static constexpr std::size_t kAlignment = 64;
+  void operator()(float* p) const;
+};
+using AlignedFloats = std::unique_ptr<float[], AlignedFloatsDelete>;
+
 class PooledFloats {
  public:
   static constexpr std::size_t kMaxPooledBlocks = 96;
@@ -44,7 +53,7 @@ class PooledFloats {
 
  private:
   void release();
-  std::unique_ptr<float[]> data_;
+  AlignedFloats data_;
   std::size_t size_ = 0, capacity_ = 0;
 };
 
