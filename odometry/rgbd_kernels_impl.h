@@ -1,6 +1,7 @@
 // The per-pixel kernels (rgbd_kernels.h) as templates over a lane type (simd_lanes.h).
 // Included once by each kernel translation unit, inside its own namespace BIVO_KERNEL_NS
-// (rgbd_kernels_scalar.cpp, rgbd_kernels_avx2.cpp); no include guard on purpose.
+// (rgbd_kernels_scalar.cpp, rgbd_kernels_avx2.cpp, rgbd_kernels_avx512vl.cpp,
+// rgbd_kernels_avx512.cpp); no include guard on purpose.
 //
 // Formulas (docs/odometry.md "Residuals and Jacobians"), per term with reference point p:
 //   q = R p + t,  y = (fx q_x / q_z + cx, fy q_y / q_z + cy),  (x0, y0) = floor(y), (a, b) = y - (x0, y0)
