@@ -76,6 +76,9 @@ struct WarpParams {
   ObjectiveMask objectives;
   GradientSource gradients = GradientSource::kCurrent;
   bool weighted_sums = false;  // also F_j = sum w_j r_j^2 with the weights in the buffers
+  // false: only the sums (weighted_sums must be set), nothing written to the buffers, which
+  // keep the previous warp: an evaluation that no linearization will reuse.
+  bool store = true;
 };
 
 struct WarpSums {

@@ -37,9 +37,10 @@ inline typename V::F lerp(typename V::F s, typename V::F a, typename V::F b) {
   return V::fma(s, b - a, a);
 }
 
-template <class V>
-WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers& out, std::size_t begin,
-              std::size_t end) {
+// kStore false: the same sums, in the same order, without the stores and the gradients.
+template <class V, bool kStore>
+WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers& out, std::size_t begin,
+                   std::size_t end) {
   using F = typename V::F;
   using M = typename V::M;
   const LanePose<V> T(p.pose);
@@ -48,7 +49,7 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
   const F u_max = V::set(static_cast<float>(p.width - 1)), v_max = V::set(static_cast<float>(p.height - 1));
   const F min_z = V::set(p.min_z), margin = V::set(p.occlusion_margin);
   const bool want_i = p.objectives.intensity, want_d = p.objectives.depth;
-  const bool current_gradients = p.gradients != GradientSource::kReference;
+  const bool current_gradients = kStore && p.gradients != GradientSource::kReference;
   const bool average = p.gradients == GradientSource::kAverage;
   WarpSums sums;
   for (std::size_t s = begin; s < end; s += kFlushTerms) {
@@ -71,13 +72,13 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
       const M occluded = depth_ok & (qz > d2 + margin);
       const M valid_i = V::and_not(inside, occluded);
       const M valid_d = V::and_not(depth_ok, occluded);
-      V::store_flags(out.flags + k, valid_i, valid_d);
+      if (kStore) V::store_flags(out.flags + k, valid_i, valid_d);
       sums.valid_i += V::count(valid_i);
       sums.valid_d += V::count(valid_d);
       if (want_i) {
         const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
         const F r = V::select(valid_i, i2 - V::load(ref.intensity + k), zero);
-        V::store(out.r_i + k, r);
+        if (kStore) V::store(out.r_i + k, r);
         ss_i = V::fma(r, r, ss_i);
         if (p.weighted_sums) f_i = V::fma(V::load(out.w_i + k) * r, r, f_i);
         if (current_gradients) {
@@ -93,7 +94,7 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
       }
       if (want_d) {
         const F r = V::select(valid_d, d2 - qz, zero);
-        V::store(out.r_d + k, r);
+        if (kStore) V::store(out.r_d + k, r);
         ss_d = V::fma(r, r, ss_d);
         if (p.weighted_sums) f_d = V::fma(V::load(out.w_d + k) * r, r, f_d);
         if (current_gradients) {
@@ -114,6 +115,12 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
     sums.ss_d += V::sum(ss_d);
   }
   return sums;
+}
+
+template <class V>
+WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers& out, std::size_t begin,
+              std::size_t end) {
+  return p.store ? warp_pass<V, true>(p, ref, out, begin, end) : warp_pass<V, false>(p, ref, out, begin, end);
 }
 
 template <class V>

@@ -363,6 +363,24 @@ std::array<double, 2> RgbdOdometryProblem::evaluate(const Eigen::VectorXd& x) {
   return f;
 }
 
+std::array<double, 2> RgbdOdometryProblem::evaluate_only(const Eigen::VectorXd& x) {
+  const ObjectiveMask mask = modelled();
+  check_x(x);
+  const ObjectiveMask weighted = options_.joint_weights ? both() : mask;
+  const bool cached = warp_x_.size() == x.size() && warp_x_ == x && covers(warp_mask_, mask);
+  if (cached || !covers(weights_mask_, weighted)) return evaluate(x);
+  // The sums of evaluate_intensity_depth()'s warp at a new x, in the same order.
+  WarpParams p = warp_params(x, mask);
+  p.weighted_sums = true;
+  p.store = false;
+  const ReferenceArrays ref = reference_terms_.view();
+  const TermBuffers buf = buffers();
+  const WarpSums s = sum_over_chunks<WarpSums>(
+      r_i_.size(), kChunkTerms, options_.threads, [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  if (options_.depth_first) return {s.f_d, s.f_i};
+  return {s.f_i, s.f_d};
+}
+
 std::array<double, 2> RgbdOdometryProblem::objectives_at(const Eigen::VectorXd& x, solvers::PhaseProfile* profile) {
   {
     solvers::ScopedPhase phase(profile, "residuals");

@@ -78,6 +78,8 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   const solvers::Manifold& manifold() const override { return manifold_; }
   solvers::Linearization linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) override;
   std::array<double, 2> evaluate(const Eigen::VectorXd& x) override;
+  // The same F in one warp that writes nothing: the buffers keep the previous warp.
+  std::array<double, 2> evaluate_only(const Eigen::VectorXd& x) override;
   solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) override;
 
   int num_terms() const { return static_cast<int>(reference_terms_.count); }

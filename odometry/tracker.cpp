@@ -198,6 +198,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       method == Method::kJoint ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
   solver_options.profile = &result.profile;
   solver_options.verbosity = options.verbosity;
+  // noise-bounded evaluates F_I at each stage's final x after its solve.
+  solver_options.keep_final_point = method == Method::kNoiseBounded;
 
   Eigen::VectorXd x = se3::to_ambient(initial);
   bool any_level_solved = false;

@@ -38,7 +38,7 @@ double merit(const std::array<double, 2>& f, const Subproblem& sp, const StepRes
 }  // namespace
 
 Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend,
-              Eigen::VectorXd& x, const SolverOptions& options) {
+              Eigen::VectorXd& x, const SolverOptions& options, LinearizationCarry* carry) {
   const auto t_start = Clock::now();
   const Manifold& manifold = problem.manifold();
   if (x.size() != manifold.ambient_dim()) {
@@ -67,9 +67,16 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   lin_options.update_weights = true;
   lin_options.profile = &summary.phases;
 
-  Linearization lin = problem.linearize(x, lin_options);
+  const bool carried = carry && carry->lin && carry->x.size() == x.size() && carry->x == x &&
+                       (!lin_options.want_full || (carry->lin->full1 && carry->lin->full2));
+  Linearization lin = carried ? std::move(*carry->lin) : problem.linearize(x, lin_options);
+  if (carry) carry->lin.reset();  // refilled at the end, when the last linearization is known
   validate_linearization(lin, manifold.tangent_dim());
-  std::array<double, 2> f = problem.evaluate(x);
+  // Carried: F_j(x) under the carried weights are the models' constants, as after a
+  // linearization inside the loop below.
+  std::array<double, 2> f = carried ? std::array<double, 2>{lin.f1.a, lin.f2.a} : problem.evaluate(x);
+  Eigen::VectorXd x_lin = x;  // where `lin` was made
+  bool lin_usable = true;     // false once a linearization had NaN/Inf entries
   if (!finite2(f)) {
     std::ostringstream msg;
     msg << "solve(" << problem.name() << "): objectives at the initial x are not finite (F1 = " << f[0]
@@ -143,7 +150,10 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     std::array<double, 2> f_new{NAN, NAN};
     if (x_new.allFinite()) {
       ScopedPhase phase(&summary.phases, "residuals");  // evaluate() is a residual pass
-      f_new = problem.evaluate(x_new);
+      // The last step, whatever its value (the tests below stop on it): nothing will
+      // linearize at x_new.
+      const bool last = rec.step_norm < options.step_tolerance || it == options.max_iterations;
+      f_new = last && !options.keep_final_point ? problem.evaluate_only(x_new) : problem.evaluate(x_new);
     }
     if (!finite2(f_new)) {
       summary.termination = TerminationReason::kNumericalFailure;
@@ -191,7 +201,9 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     }
     if (!stop && accepted && it < options.max_iterations) {
       lin = problem.linearize(x, lin_options);
+      x_lin = x;
       if (!finite_models(lin)) {
+        lin_usable = false;
         summary.termination = TerminationReason::kNumericalFailure;
         summary.message = "linearization at the accepted x has NaN/Inf entries";
         stop = true;
@@ -211,6 +223,10 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     }
   }
 
+  if (carry && lin_usable) {
+    carry->x = std::move(x_lin);
+    carry->lin = std::move(lin);
+  }
   summary.final_f1 = f[0];
   summary.final_f2 = f[1];
   summary.feasible = last_feasible;
@@ -225,9 +241,10 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
 }
 
 Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, const std::string& backend,
-              Eigen::VectorXd& x, const SolverOptions& options) {
+              Eigen::VectorXd& x, const SolverOptions& options, LinearizationCarry* carry) {
   const BackendInfo& info = backend_info(backend);
   if (info.whole_problem) {
+    if (carry) carry->lin.reset();  // it linearizes and evaluates the problem its own way
     auto whole = info.make_whole();
     if (!whole->supports(scalarization.kind())) {
       throw Error("backend '" + backend + "' does not support " + scalarization.describe());
@@ -235,7 +252,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, c
     return whole->solve(problem, scalarization, x, options);
   }
   auto step = info.make_step();
-  return solve(problem, scalarization, *step, x, options);
+  return solve(problem, scalarization, *step, x, options, carry);
 }
 
 }  // namespace bivo::solvers

@@ -54,6 +54,7 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
   ParetoFront front;
   const Manifold& manifold = problem.manifold();
   Eigen::VectorXd x = x0;
+  LinearizationCarry carry;  // the previous point's last linearization
   const double ratio = std::log(options.lambda_max / options.lambda_min);
   for (int i = 0; i < options.points; ++i) {
     const double lambda = options.lambda_min * std::exp(ratio * double(i) / double(options.points - 1));
@@ -71,7 +72,7 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
       Eigen::VectorXd xp = *predicted;
       std::optional<Summary> s;
       try {
-        s = solve(problem, WeightedSum(lambda), backend, xp, options.solver);
+        s = solve(problem, WeightedSum(lambda), backend, xp, options.solver, &carry);
       } catch (const Error&) {
         // e.g. objectives not finite at the predicted x: fall back to the plain warm start.
       }
@@ -81,7 +82,10 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
         continue;
       }
     }
-    const Summary s = solve(problem, WeightedSum(lambda), backend, x, options.solver);  // x: warm start
+    // Warm start where the previous point last linearized: its first step then needs no
+    // linearization of its own (LinearizationCarry).
+    if (carry.lin) x = carry.x;
+    const Summary s = solve(problem, WeightedSum(lambda), backend, x, options.solver, &carry);
     front.all.push_back(point_from(s, x, lambda));
   }
   finish(front);
@@ -107,12 +111,15 @@ ParetoFront sweep_epsilon(BiObjectiveProblem& problem, const Eigen::VectorXd& x0
         << front.f2_min << "); the extreme solves did not converge";
     throw Error(msg.str());
   }
-  // From the loose end (the F_1-minimizer) towards the tight one, warm-starting each point.
+  // From the loose end (the F_1-minimizer) towards the tight one, warm-starting each point
+  // where the previous one last linearized (as in sweep_lambda).
   Eigen::VectorXd x = x_f1;
+  LinearizationCarry carry;
   for (int i = 0; i < options.points; ++i) {
     const double t = double(i) / double(options.points - 1);
     const double eps = front.f2_at_f1_min + t * (front.f2_min - front.f2_at_f1_min);
-    const Summary s = solve(problem, EpsilonConstraint(eps), backend, x, options.solver);
+    if (carry.lin) x = carry.x;
+    const Summary s = solve(problem, EpsilonConstraint(eps), backend, x, options.solver, &carry);
     front.all.push_back(point_from(s, x, eps));
   }
   finish(front);

@@ -4,8 +4,9 @@
 //                  convex part of a front is reachable this way);
 //   sweep_epsilon: epsilon on a uniform grid over [min F_2, F_2 at the F_1-minimizer]
 //                  (epsilon-constraint; reaches non-convex parts too).
-// Each point is warm-started from its neighbour's solution (sweep_lambda: or from a secant
-// prediction, ParetoOptions::secant_predictor). Dominated points are dropped;
+// Each point is warm-started where its neighbour last linearized, and takes its first step
+// from that linearization (LinearizationCarry, solvers/outer_loop.h); sweep_lambda may start
+// it from a secant prediction instead (ParetoOptions::secant_predictor). Dominated points are dropped;
 // the survivors are sorted by F_1 ascending (so F_2 descending).
 //
 // Knee: the point farthest from the chord between the two extreme points, measured in

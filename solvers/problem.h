@@ -65,6 +65,11 @@ class BiObjectiveProblem {
   // decrease is measured on the same objective its model approximates.
   virtual std::array<double, 2> evaluate(const Eigen::VectorXd& x) = 0;
 
+  // evaluate() for a caller that will not linearize at x next (a solve's last step): the
+  // same values, but the problem need not keep what a linearization at x would reuse (the
+  // RGB-D problem then sums F without writing its residual buffers).
+  virtual std::array<double, 2> evaluate_only(const Eigen::VectorXd& x) { return evaluate(x); }
+
   // r_j (and J_j if asked) at x, weights as of the latest linearize(); j in {1, 2}.
   // Whole-problem backends (Ceres, Ipopt over the manifold) use this.
   virtual ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) = 0;

@@ -31,6 +31,10 @@ struct SolverOptions {
   // evaluation. Step backends only.
   std::function<double(const Eigen::VectorXd& x, const Eigen::VectorXd& delta)> step_measure;
   double step_measure_tolerance = 0.0;
+  // The caller evaluates or linearizes the problem at the final x next (e.g. a second solve
+  // from it): the last step is evaluated with evaluate(), which keeps the problem's data at
+  // that x for reuse, rather than with evaluate_only().
+  bool keep_final_point = false;
 };
 
 enum class TerminationReason {

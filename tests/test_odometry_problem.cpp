@@ -243,3 +243,48 @@ TEST(RgbdProblem, SwitchingToForwardGradientsEqualsAForwardProblem) {
   EXPECT_THROW(forward.set_jacobian(JacobianKind::kInverse), Error);
   EXPECT_THROW(forward.set_jacobian(JacobianKind::kMethodDefault), Error);
 }
+
+// evaluate_only() (a solve's last step) sums F in a warp that writes nothing. Oracles: the
+// same problem's evaluate() afterwards and a second problem's evaluate(), bit for bit, for
+// every kernel width and weight model; and the linearization it must leave in place.
+TEST(RgbdProblem, EvaluateOnlyGivesEvaluatesValuesAndKeepsTheLinearization) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const Pair p = load_pair("rgbd_dataset_freiburg1_desk", 0, 1, 2);
+  se3::Vector6d off;
+  off << 0.004, -0.003, 0.002, 0.003, -0.002, 0.001;
+  const Eigen::VectorXd x0 = se3::to_ambient(p.truth);
+  const Eigen::VectorXd x1 = se3::to_ambient(se3::exp(off) * p.truth);
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    for (const bool joint : {false, true}) {
+      SCOPED_TRACE(std::string(to_string(isa)) + (joint ? " joint" : " t-distribution"));
+      RgbdProblemOptions o;
+      o.joint_weights = joint;
+      RgbdOdometryProblem problem(p.reference.levels[1], p.current.levels[1], o);
+      RgbdOdometryProblem oracle(p.reference.levels[1], p.current.levels[1], o);
+      problem.set_kernel_isa(isa);
+      oracle.set_kernel_isa(isa);
+      const auto lin = problem.linearize(x0, {});
+      oracle.linearize(x0, {});
+      const auto f_only = problem.evaluate_only(x1);
+      const auto f_oracle = oracle.evaluate(x1);
+      EXPECT_EQ(f_only[0], f_oracle[0]);
+      EXPECT_EQ(f_only[1], f_oracle[1]);
+      EXPECT_GT(f_only[0], 0.0);
+      EXPECT_NE(f_only[0], lin.f1.a) << "x1 must be a point of its own";
+      // The buffers still hold x0: the models rebuilt from them (want_full bypasses the
+      // cached linearization, the stored weights are kept) are those of x0.
+      solvers::LinearizeOptions rebuild;
+      rebuild.want_full = true;
+      rebuild.update_weights = false;
+      const auto again = problem.linearize(x0, rebuild);
+      EXPECT_NEAR(again.f1.a, lin.f1.a, 1e-12 * lin.f1.a);
+      EXPECT_NEAR(again.f2.a, lin.f2.a, 1e-12 * lin.f2.a);
+      EXPECT_LT((again.f1.H - lin.f1.H).norm(), 1e-12 * lin.f1.H.norm());
+      EXPECT_LT((again.f2.b - lin.f2.b).norm(), 1e-12 * lin.f2.b.norm());
+      const auto f_after = problem.evaluate(x1);
+      EXPECT_EQ(f_after[0], f_only[0]);
+      EXPECT_EQ(f_after[1], f_only[1]);
+    }
+  }
+}

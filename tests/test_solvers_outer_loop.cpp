@@ -117,6 +117,31 @@ class NanBeyond final : public solvers::BiObjectiveProblem {
   double radius_;
 };
 
+// Counts the calls a solve makes to the problem it wraps.
+class Counting final : public solvers::BiObjectiveProblem {
+ public:
+  explicit Counting(solvers::BiObjectiveProblem& inner) : inner_(inner) {}
+  std::string name() const override { return inner_.name(); }
+  const solvers::Manifold& manifold() const override { return inner_.manifold(); }
+  solvers::Linearization linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& o) override {
+    ++linearizations;
+    return inner_.linearize(x, o);
+  }
+  std::array<double, 2> evaluate(const Eigen::VectorXd& x) override {
+    ++evaluations;
+    return inner_.evaluate(x);
+  }
+  std::array<double, 2> evaluate_only(const Eigen::VectorXd& x) override {
+    ++evaluations_only;
+    return inner_.evaluate(x);
+  }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override { return inner_.residuals(j, x, J); }
+  int linearizations = 0, evaluations = 0, evaluations_only = 0;
+
+ private:
+  solvers::BiObjectiveProblem& inner_;
+};
+
 // Returns models of the wrong size.
 class WrongSizeModels final : public solvers::BiObjectiveProblem {
  public:
@@ -326,4 +351,46 @@ TEST(SolversOuterLoop, BadInputThrows) {
   EXPECT_THROW(solvers::solve(w, solvers::WeightedSum(1.0), "gn", x2), Error);
   NanBeyond starts_bad(p, -1.0);  // |x| > -1 everywhere: NaN already at the start
   EXPECT_THROW(solvers::solve(starts_bad, solvers::WeightedSum(1.0), "gn", x), Error);
+}
+
+// A solve started from the previous solve's last linearization (LinearizationCarry) is the
+// solve that would have linearized there: the oracle is a second, identical problem taken
+// through the same solves without the carry. The robust pair's weights depend on where it
+// was last linearized, so a carry made at the wrong point would show.
+TEST(SolversOuterLoop, ACarriedLinearizationIsTheSolveThatWouldHaveLinearizedThere) {
+  ReweightedLinearPair robust(5), robust_oracle(5);
+  Counting problem(robust), oracle(robust_oracle);
+  solvers::SolverOptions opt;
+  opt.max_iterations = 8;  // IRLS stops on the budget, after an accepted step: x != carry.x
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(4), x_oracle = x;
+  solvers::LinearizationCarry carry;
+  solvers::solve(problem, solvers::WeightedSum(0.5), "gn", x, opt, &carry);
+  solvers::solve(oracle, solvers::WeightedSum(0.5), "gn", x_oracle, opt);
+  ASSERT_TRUE(carry.lin.has_value());
+  ASSERT_NE(carry.x, x) << "the last linearization is one step behind the final x";
+  EXPECT_EQ(problem.evaluations_only, 1) << "the budget's last step is evaluated without keeping data";
+  EXPECT_EQ(oracle.evaluations_only, 1);
+
+  const int linearized = problem.linearizations, oracle_linearized = oracle.linearizations;
+  x = carry.x;
+  x_oracle = carry.x;
+  const auto a = solvers::solve(problem, solvers::WeightedSum(3.0), "gn", x, opt, &carry);
+  const auto b = solvers::solve(oracle, solvers::WeightedSum(3.0), "gn", x_oracle, opt);
+  EXPECT_EQ(x, x_oracle);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.final_f1, b.final_f1);
+  EXPECT_EQ(a.final_f2, b.final_f2);
+  EXPECT_EQ(problem.linearizations - linearized, oracle.linearizations - oracle_linearized - 1);
+
+  // Another x: the carry is not used.
+  Eigen::VectorXd elsewhere = Eigen::VectorXd::Constant(4, 0.1);
+  const int before = problem.linearizations;
+  solvers::solve(problem, solvers::WeightedSum(3.0), "gn", elsewhere, opt, &carry);
+  EXPECT_EQ(problem.linearizations - before, opt.max_iterations) << "one at the start, one per accepted step but the last";
+
+  // keep_final_point: the last step is evaluated with evaluate().
+  opt.keep_final_point = true;
+  const int only_before = problem.evaluations_only;
+  solvers::solve(problem, solvers::WeightedSum(3.0), "gn", elsewhere, opt);
+  EXPECT_EQ(problem.evaluations_only, only_before);
 }
