@@ -156,7 +156,8 @@ void BM_ParetoSweep32(benchmark::State& state) {
   TrackerOptions o;
   o.finest_level = level;
   double solve_s = 0, sweep_s = 0;
-  int solves = 0;
+  int solves = 0, iterations = 0;
+  bivo::solvers::PhaseProfile phases;  // the sweeps' own phases
   for (auto _ : state) {
     const double t0 = process_cpu_seconds();  // CPU time: the machine is shared
     const PairResult r = estimate_motion(pair->reference, pair->current, Eigen::Isometry3d::Identity(), o);
@@ -173,9 +174,12 @@ void BM_ParetoSweep32(benchmark::State& state) {
       return problem->pixel_motion(x, d);
     };
     po.solver.step_measure_tolerance = o.pixel_motion_tolerance;
+    po.solver.profile = &phases;
     const auto front = bivo::solvers::sweep_lambda(*problem, bivo::solvers::se3::to_ambient(r.T_21), po);
     const double t2 = process_cpu_seconds();
     benchmark::DoNotOptimize(front.points.size());
+    iterations = 0;
+    for (const auto& point : front.all) iterations += point.iterations;
     solve_s += t1 - t0;
     sweep_s += t2 - t1;
     ++solves;
@@ -183,6 +187,8 @@ void BM_ParetoSweep32(benchmark::State& state) {
   state.counters["solve_ms"] = 1000.0 * solve_s / solves;
   state.counters["sweep_ms"] = 1000.0 * sweep_s / solves;
   state.counters["sweep_over_solve"] = sweep_s / solve_s;
+  state.counters["sweep_iterations"] = iterations;  // outer iterations of the 32 points
+  for (const auto& [phase, seconds] : phases.all()) state.counters["sweep_" + phase + "_ms"] = 1000.0 * seconds / solves;
 }
 
 // Reading the level-0 working set (~14 MB: reference terms, residual, gradient and weight
