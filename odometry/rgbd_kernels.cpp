@@ -109,6 +109,18 @@ void ScaleSums::add(const ScaleSums& o) {
   slope += o.slope;
 }
 
+void JointScaleSums::add(const JointScaleSums& o) {
+  m_ii += o.m_ii;
+  m_id += o.m_id;
+  m_dd += o.m_dd;
+  t40 += o.t40;
+  t31 += o.t31;
+  t22 += o.t22;
+  t13 += o.t13;
+  t04 += o.t04;
+  count += o.count;
+}
+
 void WeighSums::add(const WeighSums& o) {
   f_i += o.f_i;
   f_d += o.f_d;

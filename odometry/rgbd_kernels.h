@@ -97,11 +97,18 @@ struct ObjectiveWeights {
   float numerator = 1.0f, denominator = 1.0f, inv_scale2 = 0.0f;
   float huber = 3.0e38f;  // Huber: w = min(1, k sigma / |r|) with huber = k sigma (huge: unit weights)
 };
+// The bivariate t of method joint: P = S^-1 (joint_weights.h), nu degrees of freedom.
+struct JointScaleParams {
+  float p_ii = 0, p_id = 0, p_dd = 0, nu = 5;
+};
 struct WeightModel {
   // kStored reuses the weights in the buffers (LinearizeOptions::update_weights = false);
-  // every other kind writes them. Invalid terms always get weight 0.
-  enum Kind { kTDistribution, kHuber, kUnit, kStored } kind = kUnit;
+  // every other kind writes them. Invalid terms always get weight 0. kJoint: one weight
+  // (nu + 2) / (nu + r^T P r) for a term valid in both objectives (`joint`), the
+  // t-distribution of `intensity` / `depth` (the marginals) for a term valid in one.
+  enum Kind { kTDistribution, kHuber, kUnit, kStored, kJoint } kind = kUnit;
   ObjectiveWeights intensity, depth;
+  JointScaleParams joint;
 };
 
 // Per objective: packed lower triangle of sum w v v^T, v = [J_0..J_5, r]:
@@ -123,6 +130,16 @@ struct NormalSums {
 struct ScaleSums {
   double sum = 0, slope = 0;
   void add(const ScaleSums& o);
+};
+// One pass of the joint (bivariate t) scale's fixed point (joint_weights.h) over the terms
+// valid in both objectives, r = (x, y) = (r_I, r_D), w = (nu + 2) / (nu + r^T P r) with
+// P = S^-1: the moments sum w r r^T, and the sums of w^2 (r r^T)(r r^T) that make the
+// moments' derivative in P (Newton's Jacobian).
+struct JointScaleSums {
+  double m_ii = 0, m_id = 0, m_dd = 0;                  // sum w x^2, w x y, w y^2
+  double t40 = 0, t31 = 0, t22 = 0, t13 = 0, t04 = 0;  // sum w^2 x^p y^q
+  long long count = 0;                                  // terms valid in both
+  void add(const JointScaleSums& o);
 };
 struct WeighSums {
   double f_i = 0, f_d = 0, weight_sum_i = 0, weight_sum_d = 0;
@@ -160,6 +177,7 @@ struct KernelTable {
   WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin,
                    std::size_t end);
   ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
+  JointScaleSums (*joint_scale_sums)(const JointScaleParams&, const TermBuffers&, std::size_t begin, std::size_t end);
   WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&,
                                  const TermBuffers&, std::size_t begin, std::size_t end);

@@ -146,6 +146,46 @@ ScaleSums t_scale_sums(const float* r, std::size_t begin, std::size_t end, float
   return total;
 }
 
+template <class V>
+JointScaleSums joint_scale_sums(const JointScaleParams& p, const TermBuffers& buf, std::size_t begin,
+                                std::size_t end) {
+  using F = typename V::F;
+  using M = typename V::M;
+  const F zero = V::set(0.0f), a = V::set(p.p_ii), b2 = V::set(2.0f * p.p_id), c = V::set(p.p_dd);
+  const F fnu = V::set(p.nu), fnu2 = V::set(p.nu + 2.0f);
+  JointScaleSums total;
+  for (std::size_t s = begin; s < end; s += kFlushTerms) {
+    const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
+    F m_ii = zero, m_id = zero, m_dd = zero, t40 = zero, t31 = zero, t22 = zero, t13 = zero, t04 = zero;
+    for (std::size_t k = s; k < s_end; k += V::kWidth) {
+      const M both = V::flag(buf.flags + k, 1) & V::flag(buf.flags + k, 2);
+      total.count += V::count(both);
+      // Zero outside: such a lane adds nothing to any sum (each has a factor x or y).
+      const F x = V::select(both, V::load(buf.r_i + k), zero), y = V::select(both, V::load(buf.r_d + k), zero);
+      const F xx = x * x, xy = x * y, yy = y * y;
+      const F w = fnu2 / V::fma(a, xx, V::fma(b2, xy, V::fma(c, yy, fnu)));
+      const F wxx = w * xx, wxy = w * xy, wyy = w * yy;
+      m_ii = m_ii + wxx;
+      m_id = m_id + wxy;
+      m_dd = m_dd + wyy;
+      t40 = V::fma(wxx, wxx, t40);
+      t31 = V::fma(wxx, wxy, t31);
+      t22 = V::fma(wxx, wyy, t22);
+      t13 = V::fma(wxy, wyy, t13);
+      t04 = V::fma(wyy, wyy, t04);
+    }
+    total.m_ii += V::sum(m_ii);
+    total.m_id += V::sum(m_id);
+    total.m_dd += V::sum(m_dd);
+    total.t40 += V::sum(t40);
+    total.t31 += V::sum(t31);
+    total.t22 += V::sum(t22);
+    total.t13 += V::sum(t13);
+    total.t04 += V::sum(t04);
+  }
+  return total;
+}
+
 // The weight stage at one lane group: w_I, w_D from the model (0 where invalid); written to
 // the buffers unless the model is kStored, which reads them.
 template <class V, WeightModel::Kind kKind>
@@ -173,6 +213,19 @@ template <class V, WeightModel::Kind kKind>
 inline void lane_weights(const WeightModel& m, ObjectiveMask objectives, const TermBuffers& buf, std::size_t k,
                          typename V::M valid_i, typename V::M valid_d, typename V::F r_i, typename V::F r_d,
                          typename V::F& w_i, typename V::F& w_d) {
+  if constexpr (kKind == WeightModel::kJoint) {
+    // Both residuals are loaded: the joint model is used with both objectives only.
+    using F = typename V::F;
+    const F q = V::fma(V::set(m.joint.p_ii), r_i * r_i,
+                       V::fma(V::set(2.0f * m.joint.p_id), r_i * r_d, V::fma(V::set(m.joint.p_dd), r_d * r_d, V::set(m.joint.nu))));
+    const F w = V::set(m.joint.nu + 2.0f) / q;
+    const typename V::M both = valid_i & valid_d;
+    w_i = V::select(both, w, lane_weight<V, WeightModel::kTDistribution>(m.intensity, buf.w_i, k, valid_i, r_i));
+    w_d = V::select(both, w, lane_weight<V, WeightModel::kTDistribution>(m.depth, buf.w_d, k, valid_d, r_d));
+    V::store(buf.w_i + k, w_i);
+    V::store(buf.w_d + k, w_d);
+    return;
+  }
   if (objectives.intensity) {
     w_i = lane_weight<V, kKind>(m.intensity, buf.w_i, k, valid_i, r_i);
     if constexpr (kKind != WeightModel::kStored) V::store(buf.w_i + k, w_i);
@@ -326,6 +379,7 @@ WeighSums weigh_any(const WeightModel& m, ObjectiveMask o, const TermBuffers& bu
     case WeightModel::kTDistribution: return weigh<V, WeightModel::kTDistribution>(m, o, buf, begin, end);
     case WeightModel::kHuber: return weigh<V, WeightModel::kHuber>(m, o, buf, begin, end);
     case WeightModel::kStored: return weigh<V, WeightModel::kStored>(m, o, buf, begin, end);
+    case WeightModel::kJoint: return weigh<V, WeightModel::kJoint>(m, o, buf, begin, end);
     case WeightModel::kUnit: break;
   }
   return weigh<V, WeightModel::kUnit>(m, o, buf, begin, end);
@@ -339,6 +393,7 @@ NormalSums normal_equations_any(const NormalParams& p, const WeightModel& m, con
       return normal_equations<V, WeightModel::kTDistribution>(p, m, ref, buf, begin, end);
     case WeightModel::kHuber: return normal_equations<V, WeightModel::kHuber>(p, m, ref, buf, begin, end);
     case WeightModel::kStored: return normal_equations<V, WeightModel::kStored>(p, m, ref, buf, begin, end);
+    case WeightModel::kJoint: return normal_equations<V, WeightModel::kJoint>(p, m, ref, buf, begin, end);
     case WeightModel::kUnit: break;
   }
   return normal_equations<V, WeightModel::kUnit>(p, m, ref, buf, begin, end);
@@ -363,8 +418,8 @@ std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std:
 
 template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa, &reference_row<V>, V::kCompressesRows, &warp<V>, &t_scale_sums<V>, &weigh_any<V>,
-          &normal_equations_any<V>};
+  return {isa,          &reference_row<V>, V::kCompressesRows,     &warp<V>, &t_scale_sums<V>,
+          &joint_scale_sums<V>, &weigh_any<V>,      &normal_equations_any<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS

@@ -214,12 +214,12 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
   const std::size_t n = reference_terms_.count;
   if (options_.joint_weights && mask.intensity && mask.depth) {
     // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
-    // written to the buffers here; the kernels then apply them as stored weights.
-    stats_.joint_scale = compute_joint_weights_flagged(r_i_.data(), r_d_.data(), flags(), n, options_.weights,
-                                                       w_i_.data(), w_d_.data(), stats_.joint_scale);
+    // computed by the kernels' weight stage (WeightModel::kJoint) in the pass that uses them.
+    stats_.joint_scale =
+        estimate_joint_scale(buffers(), n, options_.weights, stats_.joint_scale, *kernels_, options_.threads);
     stats_.sigma_intensity = std::sqrt(stats_.joint_scale.s_ii);
     stats_.sigma_depth = std::sqrt(stats_.joint_scale.s_dd);
-    model_.kind = WeightModel::kStored;
+    model_ = joint_weight_model(stats_.joint_scale, options_.weights);
     return;
   }
   // Warm start: the scale changes little between the iterations of one problem.

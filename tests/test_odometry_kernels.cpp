@@ -112,10 +112,13 @@ TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
 TEST(RgbdKernels, ScalarAndVectorKernelsAgree) {
   const RgbdLevel& a = scene().reference.pyramid.levels[0];
   const RgbdLevel& b = scene().current.pyramid.levels[0];
-  for (const KernelIsa isa : {KernelIsa::kAvx2, KernelIsa::kAvx512}) {
+  for (const auto& [isa, joint] : {std::pair{KernelIsa::kAvx2, false}, std::pair{KernelIsa::kAvx512, false},
+                                   std::pair{KernelIsa::kAvx2, true}, std::pair{KernelIsa::kAvx512, true}}) {
     if (!kernels_available(isa)) continue;
-    SCOPED_TRACE(to_string(isa));
-    RgbdOdometryProblem scalar(a, b), avx2(a, b);
+    SCOPED_TRACE(std::string(to_string(isa)) + (joint ? ", joint weights" : ""));
+    RgbdProblemOptions options;
+    options.joint_weights = joint;  // the 2x2 scale's passes and the joint weight model
+    RgbdOdometryProblem scalar(a, b, options), avx2(a, b, options);
     EXPECT_NE(scalar.num_terms() % 16, 0);
     scalar.set_kernel_isa(KernelIsa::kScalar);
     avx2.set_kernel_isa(isa);
@@ -127,6 +130,7 @@ TEST(RgbdKernels, ScalarAndVectorKernelsAgree) {
     EXPECT_LT(rel(lv.f1.b, ls.f1.b), 1e-4);
     EXPECT_NEAR(scalar.last_stats().valid_intensity, avx2.last_stats().valid_intensity, 5);
     EXPECT_NEAR(scalar.last_stats().sigma_depth, avx2.last_stats().sigma_depth, 1e-5 * scalar.last_stats().sigma_depth);
+    EXPECT_NEAR(scalar.last_stats().joint_scale.correlation(), avx2.last_stats().joint_scale.correlation(), 1e-5);
     const Eigen::VectorXd x2 = se3::to_ambient(scene().T_21);
     const auto fs = scalar.evaluate(x2), fv = avx2.evaluate(x2);
     EXPECT_LT(std::abs(fs[0] - fv[0]), 1e-5 * fs[0]);
