@@ -148,13 +148,17 @@ void BM_OdometryEvaluateLevel0(benchmark::State& state) {
   }
 }
 
-// A 32-point lambda sweep at one level, warm-started from the weighted method's estimate of
-// the same pair, against that estimate (one solve): counter sweep_over_solve (CPU time).
+// A 32-point lambda sweep at one level (range(0)), warm-started from one method's estimate
+// of the same pair, against that estimate (one solve): counter sweep_over_solve (CPU time).
+// range(1) = 0: from the weighted method's estimate; 1: from single's, as `bivo pareto`
+// starts its sweeps (experiments/pareto_study.cpp).
 void BM_ParetoSweep32(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
   const int level = static_cast<int>(state.range(0));
   TrackerOptions o;
   o.finest_level = level;
+  if (state.range(1) == 1) o.method = "single";
+  state.SetLabel("from " + o.method);
   double solve_s = 0, sweep_s = 0;
   int solves = 0, iterations = 0;
   bivo::solvers::PhaseProfile phases;  // the sweeps' own phases
@@ -253,5 +257,5 @@ BENCHMARK(BM_OdometryReferenceTerms)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_OdometryUndistortFrame)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParetoSweep32)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParetoSweep32)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"level", "start"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryStreamFloor)->Arg(14)->Arg(64)->Unit(benchmark::kMillisecond);
