@@ -92,6 +92,10 @@ std::string default_backend(Method method) { return is_bounded(method) ? "exact"
 
 bool reads_medians(Method method) { return method == Method::kTykkala; }
 
+bool reads_frame_statistics(Method method) {
+  return method == Method::kWeighted || method == Method::kBounded;
+}
+
 double tykkala_lambda(const FrameStatistics& s) { return checked(tykkala_formula(s), kTykkalaWhat, s); }
 
 double adaptive_lambda(const FrameStatistics& s, double phi) {

@@ -73,6 +73,9 @@ struct PolicyParameters {
 // Whether the method's per-frame rule reads the frame's medians (FrameStatistics::has_medians
 // must then be set: add_medians()); only tykkala does.
 bool reads_medians(Method method);
+// The rule reads the reference frame's statistics (pi, variances: FrameStatistics): weighted
+// and bounded. (tykkala reads only the medians, computed on demand.)
+bool reads_frame_statistics(Method method);
 
 // Throws bivo::Error when s has no medians (as frame_lambda() for tykkala).
 double tykkala_lambda(const FrameStatistics& s);

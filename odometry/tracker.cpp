@@ -35,9 +35,12 @@ constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 
 // The reference frame's statistics as the method's rule reads them: the exact medians
 // (tykkala only; ~1.5 ms per 640x480 frame) are computed here, once per reference frame,
-// instead of in every frame's prepare_frame().
-FrameStatistics policy_statistics(Method method, const PreparedFrame& frame) {
-  FrameStatistics s = frame.statistics;
+// instead of in every frame's prepare_frame(); so are pi and the variances when the frame
+// was prepared without them and the rule reads them.
+FrameStatistics policy_statistics(Method method, const PreparedFrame& frame, int threads) {
+  FrameStatistics s = frame.has_statistics || !reads_frame_statistics(method)
+                          ? frame.statistics
+                          : frame_statistics(frame.pyramid.levels[0], threads);
   if (reads_medians(method)) add_medians(s, frame.pyramid.levels[0]);
   return s;
 }
@@ -137,10 +140,14 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
   return {static_cast<int>(first), static_cast<int>(end)};
 }
 
-PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level) {
+PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level,
+                            bool with_statistics) {
   PreparedFrame f;
   f.pyramid = build_pyramid(std::move(image), K, levels, threads, finest_level);
-  f.statistics = frame_statistics(f.pyramid.levels[0], threads);
+  if (with_statistics) {
+    f.statistics = frame_statistics(f.pyramid.levels[0], threads);
+    f.has_statistics = true;
+  }
   return f;
 }
 
@@ -165,12 +172,12 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   result.t_current = current.pyramid.timestamp;
   double lambda = 0.0, eps_bar = 0.0;
   if (method == Method::kBounded) {
-    eps_bar = bounded_epsilon_per_weight(reference.statistics, options.policy);
+    eps_bar = bounded_epsilon_per_weight(policy_statistics(method, reference, options.problem.threads), options.policy);
     result.epsilon_per_weight = eps_bar;
   } else if (!is_bounded(method) && !lambda_from_residuals(method)) {
     std::string why;
     const std::optional<double> defined =
-        frame_lambda(method, policy_statistics(method, reference), options.policy, &why);
+        frame_lambda(method, policy_statistics(method, reference, options.problem.threads), options.policy, &why);
     if (!defined) {
       // The reference frame cannot weigh the objectives (no valid depth, no texture): an
       // invalid pair with the motion prior, as when every level is skipped (tracker.h).
@@ -348,7 +355,9 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   out.load_seconds += load_seconds;
   const int threads = options.problem.threads;
   auto t_prep = Clock::now();
-  PreparedFrame reference = prepare_frame(std::move(first), seq.intrinsics, options.levels, threads, options.finest_level);
+  const bool statistics = reads_frame_statistics(parse_method(options.method));
+  PreparedFrame reference =
+      prepare_frame(std::move(first), seq.intrinsics, options.levels, threads, options.finest_level, statistics);
   out.profile.add("pyramid", seconds_since(t_prep));
 
   Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
@@ -368,7 +377,8 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     // Each frame is prepared once: the current frame of pair k is the reference of pair k + 1.
     t_prep = Clock::now();
     const double prep_cpu0 = process_cpu_seconds();
-    PreparedFrame current = prepare_frame(std::move(image), seq.intrinsics, options.levels, threads, options.finest_level);
+    PreparedFrame current =
+        prepare_frame(std::move(image), seq.intrinsics, options.levels, threads, options.finest_level, statistics);
     const double prep_seconds = seconds_since(t_prep);
     const double prep_cpu = process_cpu_seconds() - prep_cpu0;
 
@@ -416,11 +426,12 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
 
 double FramePair::lambda(const TrackerOptions& options) const {
   const Method method = parse_method(options.method);
-  return method_lambda(method, policy_statistics(method, reference), options.policy);
+  return method_lambda(method, policy_statistics(method, reference, options.problem.threads), options.policy);
 }
 
 double FramePair::epsilon_per_weight(const TrackerOptions& options) const {
-  return bounded_epsilon_per_weight(reference.statistics, options.policy);
+  return bounded_epsilon_per_weight(policy_statistics(Method::kBounded, reference, options.problem.threads),
+                                    options.policy);
 }
 
 FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,

@@ -176,6 +176,49 @@ TEST(Tracker, TykkalaLambdaFromMediansComputedOnDemand) {
   }
 }
 
+// Frames prepared without their statistics (prepare_frame(..., false), as track_sequence does
+// for methods whose rule does not read them) give every method the estimate it gets from
+// frames with them: the rules that read them compute them on demand. The oracle for the
+// others is stronger: frames whose statistics are garbage change nothing either, so
+// reads_frame_statistics() leaves out no method that reads them (tykkala reads only the
+// medians, which it computes from the image in any case).
+TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const TumSequence seq = open_tum_sequence(kData + "rgbd_dataset_freiburg1_desk");
+  const RgbdImage a = load_rgbd_image(seq.frames[0]), b = load_rgbd_image(seq.frames[1]);
+  TrackerOptions o;
+  o.levels = 3;
+  o.finest_level = 1;
+  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels), cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const PreparedFrame ref_bare = prepare_frame(a, seq.intrinsics, o.levels, 1, 0, false);
+  const PreparedFrame cur_bare = prepare_frame(b, seq.intrinsics, o.levels, 1, 0, false);
+  ASSERT_TRUE(ref.has_statistics);
+  ASSERT_FALSE(ref_bare.has_statistics);
+  PreparedFrame ref_garbage = prepare_frame(a, seq.intrinsics, o.levels);
+  PreparedFrame cur_garbage = prepare_frame(b, seq.intrinsics, o.levels);
+  for (PreparedFrame* f : {&ref_garbage, &cur_garbage}) {
+    f->statistics.pi_intensity = 123.0;
+    f->statistics.pi_depth = ref.statistics.pi_depth <= o.policy.delta ? 1e3 : 0.0;  // flips bounded's epsilon
+    f->statistics.var_intensity = 7.0;
+    f->statistics.var_depth = 9.0;
+    f->statistics.valid_depth_fraction = 0.01;
+  }
+  for (const std::string& method : method_names()) {
+    SCOPED_TRACE(method);
+    o.method = method;
+    const PairResult with = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), o);
+    const PairResult bare = estimate_motion(ref_bare, cur_bare, Eigen::Isometry3d::Identity(), o);
+    ASSERT_TRUE(with.valid) << with.note;
+    EXPECT_TRUE(with.T_21.matrix() == bare.T_21.matrix());
+    EXPECT_EQ(with.lambda, bare.lambda);
+    EXPECT_EQ(with.epsilon_per_weight, bare.epsilon_per_weight);
+    const PairResult garbage = estimate_motion(ref_garbage, cur_garbage, Eigen::Isometry3d::Identity(), o);
+    const bool unchanged = garbage.T_21.matrix() == with.T_21.matrix() && garbage.lambda == with.lambda &&
+                           garbage.epsilon_per_weight == with.epsilon_per_weight;
+    EXPECT_EQ(unchanged, !reads_frame_statistics(parse_method(method)));
+  }
+}
+
 TEST(Tracker, BadOptionsListTheValidChoices) {
   TrackerOptions o;
   o.method = "magic";
