@@ -83,7 +83,10 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
       }
     }
     // Warm start where the previous point last linearized: its first step then needs no
-    // linearization of its own (LinearizationCarry).
+    // linearization of its own (LinearizationCarry). After a failed predicted solve the
+    // carry holds that solve's last linearization, not the previous point's: the point then
+    // starts from the previous point's solution, as without a prediction.
+    if (predicted) carry.lin.reset();
     if (carry.lin) x = carry.x;
     const Summary s = solve(problem, WeightedSum(lambda), backend, x, options.solver, &carry);
     front.all.push_back(point_from(s, x, lambda));

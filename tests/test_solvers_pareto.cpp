@@ -1,5 +1,6 @@
 // Pareto sweeps against the analytic fronts of the linear pairs (QR closed forms), the
 // dominance filter, the knee and the hypervolume against hand-computed values.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -129,6 +130,61 @@ TEST(SolversPareto, SecantPredictorKeepsEveryPointAtItsOptimum) {
   }
   std::printf("iterations without / with the predictor: %d / %d\n", iterations[0], iterations[1]);
   EXPECT_LT(iterations[1], iterations[0]);
+}
+
+namespace {
+
+// Fails every solve started from a secant prediction: while the latest linearization was made
+// at a point no evaluation had visited (a predicted start; x0 excepted), evaluations away from
+// that point return NaN, so such a solve ends in kNumericalFailure after its first step.
+class FailsFromPredictions final : public solvers::BiObjectiveProblem {
+ public:
+  FailsFromPredictions(solvers::BiObjectiveProblem& inner, const Eigen::VectorXd& x0) : inner_(inner) {
+    visited_.push_back(x0);
+  }
+  std::string name() const override { return inner_.name(); }
+  const solvers::Manifold& manifold() const override { return inner_.manifold(); }
+  solvers::Linearization linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& o) override {
+    fresh_ = std::find(visited_.begin(), visited_.end(), x) == visited_.end();
+    predicted_starts += fresh_ ? 1 : 0;
+    linearized_at_ = x;
+    return inner_.linearize(x, o);
+  }
+  std::array<double, 2> evaluate(const Eigen::VectorXd& x) override {
+    if (fresh_ && x != linearized_at_) return {NAN, NAN};
+    visited_.push_back(x);
+    return inner_.evaluate(x);
+  }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override { return inner_.residuals(j, x, J); }
+  int predicted_starts = 0;
+
+ private:
+  solvers::BiObjectiveProblem& inner_;
+  std::vector<Eigen::VectorXd> visited_;
+  Eigen::VectorXd linearized_at_;
+  bool fresh_ = false;
+};
+
+}  // namespace
+
+// A predicted solve that fails numerically falls back to the plain warm start from the
+// previous point (not to where the failed solve last linearized), and every point still
+// reaches its optimum.
+TEST(SolversPareto, AFailedPredictionFallsBackToThePreviousPoint) {
+  auto p = bivo::problems::ExponentialDecayPair::synthetic(60, 17);
+  const Eigen::VectorXd x0 = Eigen::Vector3d(1.0, 1.0, 1.0);
+  FailsFromPredictions failing(p, x0);
+  auto o = tight(17);
+  o.lambda_min = 1e-2;
+  o.lambda_max = 1e2;
+  o.solver.max_iterations = 200;
+  const auto front = solvers::sweep_lambda(failing, x0, o);
+  EXPECT_GT(failing.predicted_starts, 2) << "no prediction was tried: the test proves nothing";
+  ASSERT_EQ(front.all.size(), 17u);
+  for (const auto& q : front.all) {
+    EXPECT_TRUE(q.converged) << "lambda " << q.parameter;
+    EXPECT_LT(rel_err(q.x, p.weighted_sum_optimum(q.parameter)), 1e-7) << "lambda " << q.parameter;
+  }
 }
 
 TEST(SolversPareto, DominatedPointsAndDuplicatesAreDropped) {
