@@ -5,8 +5,9 @@
 //   w_k = (nu + 2) / (nu + r_k^T S^-1 r_k)
 // and S solves the weighted fixed point S = 1/n sum_k w_k r_k r_k^T (by Newton's method from
 // the previous linearization's S, one kernel pass per step, tolerance
-// WeightOptions::scale_tolerance on S's relative change; joint_weights.cpp). Terms with only one valid residual use the marginal of that distribution, a
-// univariate t with scale S_jj: w = (nu + 1) / (nu + r^2 / S_jj).
+// WeightOptions::scale_tolerance on S's relative change; joint_weights.cpp). Terms with only
+// one valid residual use the marginal of that distribution, a univariate t with scale S_jj:
+// w = (nu + 1) / (nu + r^2 / S_jj).
 //
 // The cost sum_k w_k r_k^T S^-1 r_k equals, without its cross term 2 (S^-1)_ID w r_I r_D,
 // (S^-1)_II (F_I + lambda F_D) with Omega_I = Omega_D = diag(w) and the implied
