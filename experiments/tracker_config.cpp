@@ -51,6 +51,7 @@ json tracker_options_to_json(const TrackerOptions& o) {
       {"first_frame", o.first_frame},
       {"max_frames", o.max_frames},
       {"start_at_groundtruth", o.start_at_groundtruth},
+      {"prefetch_frames", o.prefetch_frames},
       {"verbosity", o.verbosity},
       {"policy", policy},
       {"problem",
@@ -101,6 +102,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
   r.integer("first_frame", o.first_frame, 0, kIntMax);
   r.integer("max_frames", o.max_frames, -1, kIntMax);
   r.boolean("start_at_groundtruth", o.start_at_groundtruth);
+  r.boolean("prefetch_frames", o.prefetch_frames);
   r.integer("verbosity", o.verbosity, 0, 10);
   if (const json* p = r.find("policy")) {
     ObjectReader pr(*p, r.path("policy"));

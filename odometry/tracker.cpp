@@ -10,6 +10,7 @@
 #include <sstream>
 #include <utility>
 
+#include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -50,6 +51,12 @@ FrameStatistics policy_statistics(Method method, const PreparedFrame& frame, int
 double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
@@ -345,15 +352,16 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   out.sequence = seq.name;
   out.intrinsics = seq.intrinsics;
 
-  auto t_load = Clock::now();
-  io::RgbdImage first = io::load_rgbd_image(seq.frames[first_index]);
-  const int width = first.width, height = first.height;
-  // Undistortion belongs to loading (a rectified camera delivers it): it is counted there.
-  const io::Undistortion undistortion(seq.intrinsics, seq.distortion, width, height);
-  undistortion.apply(first);
-  double load_seconds = seconds_since(t_load);
-  out.load_seconds += load_seconds;
+  // With one thread of per-pixel work, loading runs one frame ahead on a thread of its own
+  // (options.prefetch_frames); the tracker's work is then all on this thread, and its CPU
+  // clock gives a pair's CPU time without the loader's. Otherwise frames load between pairs
+  // and the process's clock counts the per-pixel workers too.
   const int threads = options.problem.threads;
+  const bool prefetch = options.prefetch_frames && threads == 1;
+  double (*const cpu_seconds)() = prefetch ? thread_cpu_seconds : process_cpu_seconds;
+  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, prefetch);
+  io::RgbdImage first = frames.next();
+  out.load_seconds += frames.last_wait_seconds();
   auto t_prep = Clock::now();
   const bool statistics = reads_frame_statistics(parse_method(options.method));
   PreparedFrame reference =
@@ -368,19 +376,16 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
 
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
   for (int k = first_index + 1; k < end; ++k) {
-    t_load = Clock::now();
-    io::RgbdImage image = io::load_rgbd_image(seq.frames[k], width, height);
-    undistortion.apply(image);
-    load_seconds = seconds_since(t_load);
+    io::RgbdImage image = frames.next();
+    const double load_seconds = frames.last_wait_seconds();
     out.load_seconds += load_seconds;
 
     // Each frame is prepared once: the current frame of pair k is the reference of pair k + 1.
     t_prep = Clock::now();
-    const double prep_cpu0 = process_cpu_seconds();
+    const double cpu0 = cpu_seconds();
     PreparedFrame current =
         prepare_frame(std::move(image), seq.intrinsics, options.levels, threads, options.finest_level, statistics);
     const double prep_seconds = seconds_since(t_prep);
-    const double prep_cpu = process_cpu_seconds() - prep_cpu0;
 
     const Eigen::Isometry3d prior =
         options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
@@ -388,7 +393,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
     pair.index = k - 1;
     pair.profile.add("pyramid", prep_seconds);
     pair.seconds += prep_seconds;
-    pair.cpu_seconds += prep_cpu;
+    pair.cpu_seconds = cpu_seconds() - cpu0;  // prepare_frame and estimate_motion
     pair.load_seconds = load_seconds;
     if (pair.valid) {
       velocity = pair.T_21;

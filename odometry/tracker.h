@@ -90,6 +90,11 @@ struct TrackerOptions {
   int first_frame = 0;              // index of the first associated frame processed
   int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
+  // With problem.threads = 1, track_sequence loads (decodes, undistorts) the next frame on a
+  // thread of its own while it tracks a pair (io/frame_stream.h): the same results in less
+  // wall time; a pair's CPU time still excludes loading. false, or more threads (the per-pixel
+  // passes then use the cores): frames load between pairs, on the calling thread.
+  bool prefetch_frames = true;
   int verbosity = 0;                // passed to the solver
 };
 
@@ -129,8 +134,13 @@ struct PairResult {
   double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
   double f_i = 0.0, f_d = 0.0;           // at the finest level solved
   double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding), wall
-  double cpu_seconds = 0.0;              // the same span in CPU time of the process (all threads)
-  double load_seconds = 0.0;             // PNG decoding of the current frame
+  double cpu_seconds = 0.0;              // the same span in CPU time: of the process (all
+                                         // threads), or of the tracking thread alone when a
+                                         // frame loader runs beside it (prefetch_frames)
+  double load_seconds = 0.0;             // wall time the pair waited for its current frame to load
+                                         // (PNG decoding, undistortion): all of it without
+                                         // TrackerOptions::prefetch_frames, the part the
+                                         // loader thread had not finished with it
   solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
   std::vector<LevelResult> levels;       // coarse to fine
   std::optional<io::PoseError> error;        // against ground truth, when available
@@ -143,7 +153,7 @@ struct TrackResult {
   std::vector<PairResult> pairs;
   solvers::PhaseProfile profile;         // summed over pairs (plus the first frame's pyramid)
   int invalid_pairs = 0;
-  double load_seconds = 0.0;             // PNG decoding, all frames (not part of any pair)
+  double load_seconds = 0.0;             // waits for loading, all frames (not part of any pair)
 };
 
 // The frames [begin, end) of a sequence of `total` frames that options.first_frame and
@@ -177,6 +187,8 @@ PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int le
 
 // CPU time of this process so far (every thread), seconds.
 double process_cpu_seconds();
+// CPU time of the calling thread so far, seconds.
+double thread_cpu_seconds();
 
 // Estimates T_21 from reference to current starting at `initial` (coarse to fine). The
 // result's timing fields cover the estimation only.

@@ -1,16 +1,19 @@
 // TUM data handling: file lists, association, frame loading and its errors, intrinsics,
 // pyramids, image statistics and robust weights, each against hand-computed values.
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
+#include <thread>
 
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/frame_stream.h"
 #include "odometry/io/lens_distortion.h"
 #include "odometry/image_statistics.h"
 #include "odometry/io/png_io.h"
@@ -259,6 +262,67 @@ TEST(LensDistortion, UndistortionResamplesAtTheDistortedPositions) {
   small.width = W / 2;
   const std::string msg = error_of([&] { map.apply(small); });
   EXPECT_NE(msg.find("32x48"), std::string::npos) << msg;
+}
+
+// The frame stream (loading one frame ahead on a thread of its own, or inline) delivers what
+// loading each frame and undistorting it gives, bit for bit, in order; a bad frame's error
+// comes when its turn comes, after the good frames before it.
+TEST(FrameStreamTest, DeliversWhatLoadingAndUndistortingEachFrameGives) {
+  const std::string dir = make_sequence("stream", 5);
+  const TumSequence seq = open_tum_sequence(dir);
+  for (int k = 0; k < 5; ++k) {  // content that varies over the image, so undistortion moves it
+    Png8 c{16, 12, 3, std::vector<std::uint8_t>(16 * 12 * 3)};
+    for (std::size_t i = 0; i < c.data.size(); ++i) c.data[i] = static_cast<std::uint8_t>((i * 7 + 31 * k) % 251);
+    write_png8(seq.frames[static_cast<std::size_t>(k)].rgb_path, c);
+  }
+  const Intrinsics K{14.0, 13.0, 7.6, 5.4};
+  const Distortion lens{0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  const Undistortion map(K, lens, 16, 12);
+  for (const bool background : {false, true}) {
+    FrameStream frames(seq.frames, 1, 5, K, lens, background);
+    for (int k = 1; k < 5; ++k) {
+      RgbdImage expected = load_rgbd_image(seq.frames[static_cast<std::size_t>(k)]);
+      const RgbdImage raw = expected;
+      map.apply(expected);
+      // Time for the loader to run ahead, if it would: it must wait for this frame to be taken.
+      if (background) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      const RgbdImage got = frames.next();
+      EXPECT_EQ(got.intensity, expected.intensity) << k << " " << background;
+      EXPECT_EQ(got.depth, expected.depth) << k << " " << background;
+      EXPECT_NE(got.intensity, raw.intensity) << k;  // the lens was applied
+      EXPECT_DOUBLE_EQ(got.timestamp, seq.frames[static_cast<std::size_t>(k)].rgb_time);
+      EXPECT_GE(frames.last_wait_seconds(), 0.0);
+    }
+    const std::string msg = error_of([&] { frames.next(); });
+    EXPECT_NE(msg.find("all 4 frames"), std::string::npos) << msg;
+  }
+  // A stream left with frames unread stops at once (the loader waits to hand over the next).
+  { FrameStream(seq.frames, 0, 5, K, lens, true).next(); }
+  EXPECT_NE(error_of([&] { FrameStream(seq.frames, 3, 3, K, lens, true); }).find("[3, 3)"), std::string::npos);
+}
+
+TEST(FrameStreamTest, ABadFrameFailsWhenItsTurnComes) {
+  const std::string dir = make_sequence("stream_bad", 5);
+  const TumSequence seq = open_tum_sequence(dir);
+  fs::remove(seq.frames[2].rgb_path);  // missing
+  Png16 small{8, 12, std::vector<std::uint16_t>(8 * 12, 5000)};
+  write_png16(seq.frames[4].depth_path, small);  // the wrong size
+  write_png8(seq.frames[4].rgb_path, Png8{8, 12, 3, std::vector<std::uint8_t>(8 * 12 * 3, 9)});
+  for (const bool background : {false, true}) {
+    FrameStream frames(seq.frames, 0, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, background);
+    EXPECT_DOUBLE_EQ(frames.next().timestamp, seq.frames[0].rgb_time);
+    EXPECT_DOUBLE_EQ(frames.next().timestamp, seq.frames[1].rgb_time);
+    for (int again = 0; again < 2; ++again) {  // the error stays; nothing after it is delivered
+      const std::string msg = error_of([&] { frames.next(); });
+      EXPECT_NE(msg.find(seq.frames[2].rgb_path), std::string::npos) << msg;
+      EXPECT_NE(msg.find("rgb.txt:6"), std::string::npos) << msg;
+    }
+    FrameStream from3(seq.frames, 3, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, background);
+    EXPECT_EQ(from3.next().width, 16);
+    const std::string msg = error_of([&] { from3.next(); });
+    EXPECT_NE(msg.find("wrong image size"), std::string::npos) << msg;  // against the stream's first frame
+    EXPECT_NE(msg.find(seq.frames[4].rgb_path), std::string::npos) << msg;
+  }
 }
 
 TEST(Intrinsics, LevelScalingMatchesTheAveragedPixelGrid) {
