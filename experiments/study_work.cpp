@@ -122,9 +122,14 @@ void write_unit_result(const std::string& path, const std::string& study_hash, c
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }
 
-WorkSummary work_shard(const Study& study, const ShardSpec& shard, const std::string& dir, std::ostream& log) {
-  const std::string hash = study_hash(study);
-  const std::vector<StudyUnit> units = shard_units(study, shard);
+WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::string& dir, std::ostream& log) {
+  const std::string hash = study_hash(planned);
+  const std::vector<StudyUnit> units = shard_units(planned, shard);
+  // A shard is one of as many jobs as there are cores (GNU Parallel's --jobs default, a
+  // Slurm task's --cpus-per-task): a frame loader thread beside its tracker would take
+  // another shard's core and stretch every pair's wall time. Frames load between pairs.
+  Study study = planned;
+  study.tracker.prefetch_frames = false;
   fs::create_directories(dir);
   WorkSummary summary;
   summary.units = int(units.size());
