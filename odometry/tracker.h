@@ -91,9 +91,11 @@ struct TrackerOptions {
   int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
   // With problem.threads = 1, track_sequence loads (decodes, undistorts) the next frame on a
-  // thread of its own while it tracks a pair (io/frame_stream.h): the same results in less
-  // wall time; a pair's CPU time still excludes loading. false, or more threads (the per-pixel
-  // passes then use the cores): frames load between pairs, on the calling thread.
+  // thread of its own while it tracks a pair (io/frame_stream.h): the same results, a
+  // fr1/rpy run in 0.64x (640x480) / 0.82x (320x240) the wall time. A pair's CPU time still
+  // excludes loading, but the decoder's memory traffic adds ~3-4 % to it at 320x240
+  // (docs/odometry.md, "Eighth round"). false, or more threads (the per-pixel passes then use
+  // the cores): frames load between pairs, on the calling thread.
   bool prefetch_frames = true;
   int verbosity = 0;                // passed to the solver
 };
