@@ -1,6 +1,8 @@
 #include "odometry/reference_terms.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "odometry/parallel_chunks.h"
 
@@ -69,6 +71,32 @@ void column_derivatives(const ImageF& im, int y, bool skip_missing, float scale,
     const bool counts = (has_up || has_down) && (!skip_missing || n > 0.0f);
     out[x] = scale * (!counts ? 0.0f : has_up ? m - n : n - m);
   }
+}
+
+// The float interval [lo, hi] holding exactly the floats z with min_depth <= double(z) <=
+// max_depth (the test of reference_row), so that counting terms needs no double arithmetic.
+struct FloatDepthRange {
+  float lo, hi;
+};
+
+FloatDepthRange float_depth_range(double min_depth, double max_depth) {
+  float lo = static_cast<float>(min_depth), hi = static_cast<float>(max_depth);
+  while (double(lo) < min_depth) lo = std::nextafter(lo, std::numeric_limits<float>::infinity());
+  while (double(std::nextafter(lo, -std::numeric_limits<float>::infinity())) >= min_depth) {
+    lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
+  }
+  while (double(hi) > max_depth) hi = std::nextafter(hi, -std::numeric_limits<float>::infinity());
+  while (double(std::nextafter(hi, std::numeric_limits<float>::infinity())) <= max_depth) {
+    hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
+  }
+  return {lo, hi};
+}
+
+// How many of the n depths lie in [lo, hi] (NaN does not): branch-free, so GCC vectorizes it.
+std::size_t count_in_range(const float* depth, std::size_t n, FloatDepthRange range) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) count += (depth[i] >= range.lo) & (depth[i] <= range.hi);
+  return count;
 }
 
 }  // namespace
@@ -148,21 +176,17 @@ ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth
   };
   const int chunks = (D.height + kRowsPerChunk - 1) / kRowsPerChunk;
   std::size_t k = 0;
-  // Vector rows without gradients are faster on one thread than counted and split
-  // (KernelTable::vector_reference_rows).
-  const bool split = threads > 1 && chunks > 1 && (with_gradients || !kernels.vector_reference_rows);
+  const bool split = threads > 1 && chunks > 1;
   if (split) {
     // Threads: count each row chunk's terms, then every chunk writes from its own first
     // index: the same terms at the same indices as one pass in row order.
     std::vector<std::size_t> first(static_cast<std::size_t>(chunks) + 1, 0);
+    const FloatDepthRange range = float_depth_range(min_depth, max_depth);
     for_each_chunk(chunks, threads, [&](int c) {
-      const int y1 = std::min(D.height, (c + 1) * kRowsPerChunk);
       const std::size_t w = static_cast<std::size_t>(D.width);
-      std::size_t n = 0;
-      for (std::size_t i = static_cast<std::size_t>(c) * kRowsPerChunk * w; i < static_cast<std::size_t>(y1) * w; ++i) {
-        n += usable(D.data[i]) ? 1 : 0;
-      }
-      first[static_cast<std::size_t>(c) + 1] = n;
+      const std::size_t y0 = static_cast<std::size_t>(c) * kRowsPerChunk;
+      const std::size_t y1 = static_cast<std::size_t>(std::min(D.height, (c + 1) * kRowsPerChunk));
+      first[static_cast<std::size_t>(c) + 1] = count_in_range(D.data.data() + y0 * w, (y1 - y0) * w, range);
     });
     for (int c = 0; c < chunks; ++c) first[static_cast<std::size_t>(c) + 1] += first[static_cast<std::size_t>(c)];
     for_each_chunk(chunks, threads, [&](int c) {

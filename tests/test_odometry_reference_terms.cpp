@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -127,4 +128,37 @@ TEST(ReferenceTerms, GradientsBelongToTheirTerms) {
     EXPECT_FLOAT_EQ(t.gi_v[k], static_cast<float>(2.0 * level.K.fy));
   }
   EXPECT_GT(interior, 300);
+}
+
+// Split over threads, the rows' terms are counted in float before they are written. A depth
+// counts when min <= double(z) <= max (reference_row's test): the float neighbours of bounds
+// that float rounds up (0.4), down (0.7) or holds exactly (6.0) must fall on the same side
+// of the bound as in that test, or the chunks' first indices shift.
+TEST(ReferenceTerms, ThreadsCountTheDepthsAtTheBoundsAsTheRowTest) {
+  RgbdLevel level = ragged_level();
+  const auto around = [](double bound, int step) {
+    float f = static_cast<float>(bound);
+    for (; step < 0; ++step) f = std::nextafter(f, 0.0f);
+    for (; step > 0; --step) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+  };
+  for (const auto& [min_depth, max_depth] : {std::pair{0.4, 6.0}, std::pair{0.7, 5.3}}) {
+    for (int v = 20; v < level.depth.height; ++v) {  // the lower half: the second thread's rows
+      for (int u = 0; u < level.depth.width; ++u) {
+        const double bound = (u + v) % 2 ? min_depth : max_depth;
+        level.depth.at(u, v) = around(bound, (u + 3 * v) % 5 - 2);
+      }
+    }
+    std::vector<float> z;  // the oracle: reference_row's test, pixel by pixel
+    for (float d : level.depth.data) {
+      if (double(d) >= min_depth && double(d) <= max_depth) z.push_back(d);
+    }
+    for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx512}) {
+      if (!kernels_available(isa)) continue;
+      SCOPED_TRACE(std::string(to_string(isa)) + ", bounds " + std::to_string(min_depth));
+      const ReferenceTerms t = make_reference_terms(level, min_depth, max_depth, false, 2, kernels(isa));
+      ASSERT_EQ(t.count, z.size());
+      EXPECT_EQ(std::vector<float>(t.z.data(), t.z.data() + t.count), z);
+    }
+  }
 }
