@@ -68,7 +68,8 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   const TumSequence seq = open_tum_sequence(kSequence);
   const RgbdImage image = load_rgbd_image(seq.frames[0]);
   const int threads = static_cast<int>(state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads));
+  const bool statistics = state.range(1) != 0;  // weighted and bounded read them
+  for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads, 0, statistics));
 }
 
 // Undistorting one loaded fr1 frame with its sequence's map (part of loading, not of a pair).
@@ -228,7 +229,13 @@ BENCHMARK_CAPTURE(BM_OdometryPair, joint, std::string("joint"), std::string(""))
 BENCHMARK_CAPTURE(BM_OdometryPair, scaled, std::string("scaled"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_OdometryPrepareFrame)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OdometryPrepareFrame)
+    ->ArgNames({"threads", "statistics"})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Args({2, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_OdometryLinearizeLevel0)
     ->ArgNames({"isa", "threads", "joint"})  // isa: 0 scalar, 1 avx2, 2 avx512vl, 3 avx512
     ->Args({0, 1, 0})
