@@ -127,7 +127,8 @@ void BM_OdometryReferenceTerms(benchmark::State& state) {
 
 // One evaluate() at a new pose: the warp with F summed under the stored weights, at level 0
 // or a coarser level (level 2's working set fits the L2 cache: equal ns per term at both
-// levels says the warp is bound by its instructions, not by memory).
+// levels says the warp is bound by its instructions, not by memory). store 0: evaluate_only(),
+// the same sums without writing the residuals and gradients a linearization would reuse.
 void BM_OdometryEvaluateLevel0(benchmark::State& state) {
   BIVO_NEED_PAIR(pair);
   const KernelIsa isa = isa_of(state.range(0));
@@ -145,7 +146,7 @@ void BM_OdometryEvaluateLevel0(benchmark::State& state) {
   problem.linearize(x, {});
   for (auto _ : state) {
     x(0) += 1e-6;
-    benchmark::DoNotOptimize(problem.evaluate(x));
+    benchmark::DoNotOptimize(state.range(2) != 0 ? problem.evaluate(x) : problem.evaluate_only(x));
   }
 }
 
@@ -248,13 +249,15 @@ BENCHMARK(BM_OdometryLinearizeLevel0)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_OdometryEvaluateLevel0)
-    ->ArgNames({"isa", "level"})
-    ->Args({1, 0})
-    ->Args({2, 0})
-    ->Args({3, 0})
-    ->Args({1, 2})
-    ->Args({2, 2})
-    ->Args({3, 2})
+    ->ArgNames({"isa", "level", "store"})
+    ->Args({1, 0, 1})
+    ->Args({2, 0, 1})
+    ->Args({3, 0, 1})
+    ->Args({3, 0, 0})
+    ->Args({1, 2, 1})
+    ->Args({2, 2, 1})
+    ->Args({3, 2, 1})
+    ->Args({3, 2, 0})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryReferenceTerms)
     ->ArgNames({"threads", "gradients"})
