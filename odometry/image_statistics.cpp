@@ -11,9 +11,30 @@
 namespace bivo::odometry {
 namespace {
 
-constexpr int kRowsPerChunk = kStatisticsRows;
+constexpr int kRowsPerChunk = 32;
 
 int row_chunks(int rows) { return (rows + kRowsPerChunk - 1) / kRowsPerChunk; }
+
+struct DifferenceSums {
+  double sum_x = 0.0, sum_y = 0.0;
+  long long used_x = 0, used_y = 0;
+  void add(const DifferenceSums& o) {
+    sum_x += o.sum_x;
+    sum_y += o.sum_y;
+    used_x += o.used_x;
+    used_y += o.used_y;
+  }
+};
+
+struct MomentSums {
+  double s = 0.0, s2 = 0.0;
+  long long n = 0;
+  void add(const MomentSums& o) {
+    s += o.s;
+    s2 += o.s2;
+    n += o.n;
+  }
+};
 
 DifferenceSums difference_rows(const ImageF& im, bool skip_missing, int y0, int y1) {
   DifferenceSums d;
@@ -110,7 +131,16 @@ void select_ranks(const ImageF& im, const Selected& selected, const std::vector<
 // Everything frame_statistics() sums, for rows [y0, y1), in ONE pass over the intensity and
 // depth rows: differences for pi (interior pixels), moments for the variances, valid depths.
 // Within a row, eight float lanes (the compiler vectorizes them) go to double per row.
-using FrameSums = FrameStatisticsPart;
+struct FrameSums {
+  DifferenceSums di, dd;
+  MomentSums mi, md;
+  void add(const FrameSums& o) {
+    di.add(o.di);
+    dd.add(o.dd);
+    mi.add(o.mi);
+    md.add(o.md);
+  }
+};
 
 constexpr int kLanes = 8;
 
@@ -260,26 +290,6 @@ double variance_of(const MomentSums& m) {
 
 }  // namespace
 
-void DifferenceSums::add(const DifferenceSums& o) {
-  sum_x += o.sum_x;
-  sum_y += o.sum_y;
-  used_x += o.used_x;
-  used_y += o.used_y;
-}
-
-void MomentSums::add(const MomentSums& o) {
-  s += o.s;
-  s2 += o.s2;
-  n += o.n;
-}
-
-void FrameStatisticsPart::add(const FrameStatisticsPart& o) {
-  di.add(o.di);
-  dd.add(o.dd);
-  mi.add(o.mi);
-  md.add(o.md);
-}
-
 double complexity_metric(const ImageF& image, bool skip_missing, int threads) {
   const DifferenceSums d = sum_over_chunks<DifferenceSums>(
       static_cast<std::size_t>(row_chunks(image.height)), 1, threads, [&](std::size_t c, std::size_t) {
@@ -325,34 +335,21 @@ void add_medians(FrameStatistics& s, const RgbdLevel& level) {
   s.has_medians = true;
 }
 
-int statistics_parts(const RgbdLevel& level) { return row_chunks(level.intensity.height); }
-
-FrameStatisticsPart frame_statistics_part(const RgbdLevel& level, int part) {
-  FrameStatisticsPart p = frame_rows(level.intensity, level.depth, part * kRowsPerChunk, (part + 1) * kRowsPerChunk);
-  p.done = true;
-  return p;
-}
-
-FrameStatistics frame_statistics_of(std::vector<FrameStatisticsPart>& parts, const RgbdLevel& level, int threads) {
-  parts.resize(static_cast<std::size_t>(statistics_parts(level)));
-  for_each_chunk(static_cast<int>(parts.size()), threads, [&](int c) {
-    if (!parts[static_cast<std::size_t>(c)].done) parts[static_cast<std::size_t>(c)] = frame_statistics_part(level, c);
-  });
-  FrameSums f;
-  for (const FrameStatisticsPart& p : parts) f.add(p);
+FrameStatistics frame_statistics(const RgbdLevel& level, int threads, bool with_medians) {
+  const ImageF& I = level.intensity;
+  const ImageF& D = level.depth;
   FrameStatistics s;
+  const FrameSums f = sum_over_chunks<FrameSums>(
+      static_cast<std::size_t>(row_chunks(I.height)), 1, threads, [&](std::size_t c, std::size_t) {
+        const int y0 = static_cast<int>(c) * kRowsPerChunk;
+        return frame_rows(I, D, y0, y0 + kRowsPerChunk);
+      });
   s.pi_intensity = metric_of(f.di);
   s.pi_depth = metric_of(f.dd);
   s.var_intensity = variance_of(f.mi);
   s.var_depth = variance_of(f.md);
-  s.valid_depth_fraction = level.depth.data.empty() ? 0.0 : double(f.md.n) / level.depth.data.size();
-  return s;
-}
-
-FrameStatistics frame_statistics(const RgbdLevel& level, int threads, bool with_medians) {
-  std::vector<FrameStatisticsPart> parts;
-  FrameStatistics s = frame_statistics_of(parts, level, threads);
   if (with_medians) add_medians(s, level);
+  s.valid_depth_fraction = D.data.empty() ? 0.0 : double(f.md.n) / D.data.size();
   return s;
 }
 

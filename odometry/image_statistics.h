@@ -3,7 +3,6 @@
 // the complexity metric pi of eqs. `image complexity metric` / `depth complexity metric`,
 // variances for the scale factor of eq. `scale factor`, and medians for Tykkala's lambda.
 #include <limits>
-#include <vector>
 
 #include "odometry/rgbd_pyramid.h"
 
@@ -38,32 +37,6 @@ struct FrameStatistics {
   double valid_depth_fraction = 0.0;
 };
 FrameStatistics frame_statistics(const RgbdLevel& level, int threads = 1, bool with_medians = false);
-
-// frame_statistics() in parts, so that a pass already reading a level's rows (the pyramid's
-// next level, prepare_frame()) can sum them while they are in cache: part c holds the sums
-// of rows [c kStatisticsRows, (c + 1) kStatisticsRows), and frame_statistics_of() adds the
-// parts in order, which gives the same numbers bit for bit. Without medians.
-constexpr int kStatisticsRows = 32;
-struct DifferenceSums {  // sums of |differences| and how many were used, per direction
-  double sum_x = 0.0, sum_y = 0.0;
-  long long used_x = 0, used_y = 0;
-  void add(const DifferenceSums& o);
-};
-struct MomentSums {  // sum, sum of squares and count of the values
-  double s = 0.0, s2 = 0.0;
-  long long n = 0;
-  void add(const MomentSums& o);
-};
-struct FrameStatisticsPart {
-  DifferenceSums di, dd;  // intensity, depth (both values valid)
-  MomentSums mi, md;      // intensity, valid depths
-  bool done = false;
-  void add(const FrameStatisticsPart& o);
-};
-int statistics_parts(const RgbdLevel& level);
-FrameStatisticsPart frame_statistics_part(const RgbdLevel& level, int part);
-// Computes the parts not yet done, then the statistics.
-FrameStatistics frame_statistics_of(std::vector<FrameStatisticsPart>& parts, const RgbdLevel& level, int threads = 1);
 // median(I) and median(D > 0) of the level into s (a no-op when s has them).
 void add_medians(FrameStatistics& s, const RgbdLevel& level);
 

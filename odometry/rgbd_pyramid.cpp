@@ -194,8 +194,7 @@ ImageF downsample_depth(const ImageF& fine) {
   return c;
 }
 
-RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level,
-                          const LevelZeroRows& rows_reduced) {
+RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level) {
   if (levels < 1) throw Error("pyramid needs at least 1 level, got " + std::to_string(levels));
   const int cw = image.width >> (levels - 1), ch = image.height >> (levels - 1);
   if (cw < 8 || ch < 8) {
@@ -231,7 +230,6 @@ RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int leve
         const RgbdLevel& fine = p.levels[static_cast<std::size_t>(l - 1)];
         mean4_rows(fine.intensity, L.intensity, y0, y1);
         mean_valid4_rows(fine.depth, L.depth, y0, y1);
-        if (l == 1 && rows_reduced) rows_reduced(fine, 2 * y0, 2 * y1);
       }
       if (interleave) interleave_rows(L, L.intensity_depth, y0, y1);
     });

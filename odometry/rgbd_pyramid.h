@@ -2,7 +2,6 @@
 // Image pyramids of one RGB-D frame: level 0 is the full image, each next level halves
 // both sizes by 2x2 averaging. Intensity averages all four pixels; depth averages only the
 // valid (non-zero) ones and stays 0 (missing) when none of the four is valid.
-#include <functional>
 #include <vector>
 
 #include "odometry/io/camera_intrinsics.h"
@@ -55,15 +54,8 @@ ImageF downsample_depth(const ImageF& fine);
 // become level 0 (pass an rvalue to move them instead of copying). Levels finer than
 // finest_level (never solved, e.g. 640x480 when tracking at 320x240) get no
 // intensity_depth: a problem on such a level interleaves its own copy.
-//
-// rows_reduced(level0, first, last), when given, is called for every block of level-0 rows
-// [first, last) just after they were reduced into level 1, on the thread that reduced them:
-// work that reads the same rows (the frame statistics, prepare_frame()) finds them in cache.
-// Blocks may run at the same time on several threads; rows that no block reduces (an odd
-// last row, a one-level pyramid) are not reported.
-using LevelZeroRows = std::function<void(const RgbdLevel& level0, int first, int last)>;
 RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads = 1,
-                          int finest_level = 0, const LevelZeroRows& rows_reduced = {});
+                          int finest_level = 0);
 
 // Central-difference gradients (x: columns, y: rows), zero on the border; used for the
 // image statistics and for visualisation (the residual Jacobians differentiate the

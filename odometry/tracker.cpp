@@ -150,22 +150,11 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level,
                             bool with_statistics) {
   PreparedFrame f;
-  if (!with_statistics) {
-    f.pyramid = build_pyramid(std::move(image), K, levels, threads, finest_level);
-    return f;
+  f.pyramid = build_pyramid(std::move(image), K, levels, threads, finest_level);
+  if (with_statistics) {
+    f.statistics = frame_statistics(f.pyramid.levels[0], threads);
+    f.has_statistics = true;
   }
-  // The statistics read level 0, as its reduction to level 1 does: each block of rows is
-  // summed right after it was reduced, while in cache (one pass over level 0 from memory).
-  std::vector<FrameStatisticsPart> parts(
-      static_cast<std::size_t>((image.height + kStatisticsRows - 1) / kStatisticsRows));
-  const auto sum_rows = [&parts](const RgbdLevel& level0, int first, int last) {
-    for (int part = (first + kStatisticsRows - 1) / kStatisticsRows; part * kStatisticsRows < last; ++part) {
-      parts[static_cast<std::size_t>(part)] = frame_statistics_part(level0, part);
-    }
-  };
-  f.pyramid = build_pyramid(std::move(image), K, levels, threads, finest_level, sum_rows);
-  f.statistics = frame_statistics_of(parts, f.pyramid.levels[0], threads);
-  f.has_statistics = true;
   return f;
 }
 
