@@ -170,10 +170,6 @@ struct KernelTable {
   // Writes the row's terms from index k on; returns the index after the last. Bit-identical
   // for every instruction set.
   std::size_t (*reference_row)(const ReferenceRow&, const ReferenceOut&, std::size_t k);
-  // reference_row works on whole lane groups (compressing the usable lanes): a 640x480 level
-  // takes ~0.17 ms on one thread, less than the per-row count pass that splitting the rows
-  // over threads needs (0.23 ms on two; BM_OdometryReferenceTerms).
-  bool vector_reference_rows = false;
   WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin,
                    std::size_t end);
   ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);

@@ -418,8 +418,8 @@ std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std:
 
 template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa,          &reference_row<V>, V::kCompressesRows,     &warp<V>, &t_scale_sums<V>,
-          &joint_scale_sums<V>, &weigh_any<V>,      &normal_equations_any<V>};
+  return {isa,           &reference_row<V>, &warp<V>, &t_scale_sums<V>, &joint_scale_sums<V>,
+          &weigh_any<V>, &normal_equations_any<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS
