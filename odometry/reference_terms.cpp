@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "odometry/parallel_chunks.h"
 
@@ -80,15 +81,18 @@ struct FloatDepthRange {
 };
 
 FloatDepthRange float_depth_range(double min_depth, double max_depth) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  // One float step towards `to`, or nullopt at the end of the floats (nextafter stays put at
+  // +-inf: a bound of inf must not loop).
+  const auto step = [](float f, float to) -> std::optional<float> {
+    const float g = std::nextafter(f, to);
+    return g == f ? std::nullopt : std::optional<float>(g);
+  };
   float lo = static_cast<float>(min_depth), hi = static_cast<float>(max_depth);
-  while (double(lo) < min_depth) lo = std::nextafter(lo, std::numeric_limits<float>::infinity());
-  while (double(std::nextafter(lo, -std::numeric_limits<float>::infinity())) >= min_depth) {
-    lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
-  }
-  while (double(hi) > max_depth) hi = std::nextafter(hi, -std::numeric_limits<float>::infinity());
-  while (double(std::nextafter(hi, std::numeric_limits<float>::infinity())) <= max_depth) {
-    hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
-  }
+  while (double(lo) < min_depth && step(lo, kInf)) lo = *step(lo, kInf);
+  for (auto below = step(lo, -kInf); below && double(*below) >= min_depth; below = step(lo, -kInf)) lo = *below;
+  while (double(hi) > max_depth && step(hi, -kInf)) hi = *step(hi, -kInf);
+  for (auto above = step(hi, kInf); above && double(*above) <= max_depth; above = step(hi, kInf)) hi = *above;
   return {lo, hi};
 }
 

@@ -142,11 +142,14 @@ TEST(ReferenceTerms, ThreadsCountTheDepthsAtTheBoundsAsTheRowTest) {
     for (; step > 0; --step) f = std::nextafter(f, std::numeric_limits<float>::infinity());
     return f;
   };
-  for (const auto& [min_depth, max_depth] : {std::pair{0.4, 6.0}, std::pair{0.7, 5.3}}) {
+  // A bound of inf (--max-depth inf) keeps infinite depths, as the row test does.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const auto& [min_depth, max_depth] : {std::pair{0.4, 6.0}, std::pair{0.7, 5.3}, std::pair{0.4, inf}}) {
     for (int v = 20; v < level.depth.height; ++v) {  // the lower half: the second thread's rows
       for (int u = 0; u < level.depth.width; ++u) {
         const double bound = (u + v) % 2 ? min_depth : max_depth;
-        level.depth.at(u, v) = around(bound, (u + 3 * v) % 5 - 2);
+        level.depth.at(u, v) = std::isinf(bound) ? (u % 3 ? 7.5f : static_cast<float>(inf))
+                                                 : around(bound, (u + 3 * v) % 5 - 2);
       }
     }
     std::vector<float> z;  // the oracle: reference_row's test, pixel by pixel
