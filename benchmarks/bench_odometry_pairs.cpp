@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ namespace data = bivo::odometry::io;
 #else
 #include "odometry/tum_dataset.h"
 namespace data = bivo::odometry;
+#endif
+#if __has_include("odometry/sequence_tracking.h")
+#include "odometry/sequence_tracking.h"
+#define BIVO_BENCH_STREAM 1
 #endif
 #if __has_include("odometry/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
@@ -129,6 +134,58 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
   state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
 }
 
+#ifdef BIVO_BENCH_STREAM
+// Wall ms per pair as track_sequence streams them: each step estimates a pair while the next
+// pair's current frame is prepared beside it (sequence_tracking.h); the first pair's time also
+// holds its own current frame's preparation. With two threads the preparation overlaps the
+// estimate; compare with RpyPairs/weighted_1thread_wall (with one thread, track_sequence
+// prepares each frame right before its pair, as BM_RpyPairs does).
+void BM_RpyStream(benchmark::State& state, const std::string& method, int finest, int threads) {
+  const Frames* f = frames();
+  if (!f) {
+    state.SkipWithError(("shared data absent: " + kRpy).c_str());
+    return;
+  }
+  TrackerOptions o;
+  o.method = method;
+  o.finest_level = finest;
+  o.problem.threads = threads;
+  const auto prepare = [&](data::RgbdImage image) { return BIVO_PREPARE(std::move(image), f->sequence.intrinsics, o); };
+  std::vector<double> per_pair;
+  double iterations = 0;
+  int pairs = 0;
+  for (auto _ : state) {
+    for (const auto& window : f->windows) {
+      PreparedFrame reference = prepare(window[0]);
+      data::RgbdImage first_current = window[1];
+      double lead = wall_now();
+      PreparedFrame current = prepare(std::move(first_current));
+      lead = wall_now() - lead;
+      Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
+      for (std::size_t k = 1; k < window.size(); ++k) {
+        std::optional<data::RgbdImage> next;
+        if (k + 1 < window.size()) next = window[k + 1];
+        const double w0 = wall_now();
+        StreamStep step =
+            estimate_motion_preparing_next(reference, current, velocity, o, std::move(next), f->sequence.intrinsics);
+        per_pair.push_back(1000.0 * (lead + wall_now() - w0));
+        lead = 0.0;
+        iterations += step.pair.iterations;
+        ++pairs;
+        if (step.pair.valid) velocity = step.pair.T_21;
+        reference = std::move(current);
+        current = std::move(step.next);
+      }
+    }
+  }
+  state.counters["median_ms"] = median(per_pair);
+  double sum = 0;
+  for (double v : per_pair) sum += v;
+  state.counters["mean_ms"] = per_pair.empty() ? 0.0 : sum / double(per_pair.size());
+  state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
+}
+#endif
+
 void register_cases() {
   for (int finest : {0, 1}) {
     const std::string at = finest == 0 ? "/640x480" : "/320x240";
@@ -159,6 +216,12 @@ void register_cases() {
                                  std::string("weighted"), finest, 1, 0.0, true)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
+#ifdef BIVO_BENCH_STREAM
+    benchmark::RegisterBenchmark(("RpyStream/weighted_2threads_wall" + at).c_str(), BM_RpyStream,
+                                 std::string("weighted"), finest, 2)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+#endif
   }
 }
 

@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 namespace bivo::odometry {
 
@@ -53,6 +54,35 @@ Sums sum_over_chunks(std::size_t items, std::size_t chunk, int threads, const Fn
   Sums total{};
   for (const Sums& p : partial) total.add(p);
   return total;
+}
+
+// Runs `main` on the calling thread and `beside` as one task of the same arena, returning when
+// both are done: with threads > 1 a worker takes `beside` (coarse work that would otherwise sit
+// between two of main's fine-grained parallel loops) and then steals main's chunks; the caller
+// runs `beside` itself if no worker has taken it by the end of main. One thread: main, then
+// beside (which then does not run when main throws). An exception from either is rethrown
+// after both have stopped, main's when both throw.
+template <class Main, class Beside>
+void run_beside(int threads, const Main& main, const Beside& beside) {
+  if (threads <= 1) {
+    main();
+    beside();
+    return;
+  }
+  chunk_arena(threads).execute([&] {
+    tbb::task_group group;
+    group.run([&] { beside(); });
+    try {
+      main();
+    } catch (...) {
+      try {
+        group.wait();
+      } catch (...) {
+      }
+      throw;
+    }
+    group.wait();
+  });
 }
 
 }  // namespace bivo::odometry

@@ -10,7 +10,6 @@
 #include <sstream>
 #include <utility>
 
-#include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -134,17 +133,6 @@ void validate(const TrackerOptions& options) {
     throw Error("max frames must be at least 2 (one frame pair) or -1 for all, got " +
                 std::to_string(options.max_frames));
   }
-}
-
-FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory) {
-  // In 64 bits: first_frame + 1 and first_frame + max_frames may exceed INT_MAX.
-  const std::int64_t first = options.first_frame;
-  if (first < 0 || first + 1 >= total) {
-    throw Error("sequence '" + directory + "' has " + std::to_string(total) + " associated frames; first frame " +
-                std::to_string(first) + " leaves fewer than 2 to process");
-  }
-  const std::int64_t end = options.max_frames < 0 ? total : std::min<std::int64_t>(total, first + options.max_frames);
-  return {static_cast<int>(first), static_cast<int>(end)};
 }
 
 PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level,
@@ -335,86 +323,6 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   result.seconds = seconds_since(t0);
   result.cpu_seconds = process_cpu_seconds() - cpu0;
   return result;
-}
-
-TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
-                           const std::function<void(const PairResult&)>& on_pair) {
-  validate(options);
-  io::SequenceOptions so;
-  so.max_association_dt = options.max_association_dt;
-  so.intrinsics = options.intrinsics;
-  so.distortion = options.distortion;
-  const io::TumSequence seq = io::open_tum_sequence(directory, so);
-  const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, directory);
-  const int first_index = window.begin, end = window.end;
-
-  TrackResult out;
-  out.sequence = seq.name;
-  out.intrinsics = seq.intrinsics;
-
-  // With one thread of per-pixel work, loading runs one frame ahead on a thread of its own
-  // (options.prefetch_frames); the tracker's work is then all on this thread, and its CPU
-  // clock gives a pair's CPU time without the loader's. Otherwise frames load between pairs
-  // and the process's clock counts the per-pixel workers too.
-  const int threads = options.problem.threads;
-  const bool prefetch = options.prefetch_frames && threads == 1;
-  double (*const cpu_seconds)() = prefetch ? thread_cpu_seconds : process_cpu_seconds;
-  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, prefetch);
-  io::RgbdImage first = frames.next();
-  out.load_seconds += frames.last_wait_seconds();
-  auto t_prep = Clock::now();
-  const bool statistics = reads_frame_statistics(parse_method(options.method));
-  PreparedFrame reference =
-      prepare_frame(std::move(first), seq.intrinsics, options.levels, threads, options.finest_level, statistics);
-  out.profile.add("pyramid", seconds_since(t_prep));
-
-  Eigen::Isometry3d T_w_ref = Eigen::Isometry3d::Identity();
-  if (options.start_at_groundtruth && seq.groundtruth) {
-    if (const auto T0 = io::interpolate_pose(*seq.groundtruth, seq.frames[first_index].rgb_time)) T_w_ref = *T0;
-  }
-  out.trajectory.push_back({seq.frames[first_index].rgb_time, T_w_ref});
-
-  Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // T_21 of the last valid pair
-  for (int k = first_index + 1; k < end; ++k) {
-    io::RgbdImage image = frames.next();
-    const double load_seconds = frames.last_wait_seconds();
-    out.load_seconds += load_seconds;
-
-    // Each frame is prepared once: the current frame of pair k is the reference of pair k + 1.
-    t_prep = Clock::now();
-    const double cpu0 = cpu_seconds();
-    PreparedFrame current =
-        prepare_frame(std::move(image), seq.intrinsics, options.levels, threads, options.finest_level, statistics);
-    const double prep_seconds = seconds_since(t_prep);
-
-    const Eigen::Isometry3d prior =
-        options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
-    PairResult pair = estimate_motion(reference, current, prior, options);
-    pair.index = k - 1;
-    pair.profile.add("pyramid", prep_seconds);
-    pair.seconds += prep_seconds;
-    pair.cpu_seconds = cpu_seconds() - cpu0;  // prepare_frame and estimate_motion
-    pair.load_seconds = load_seconds;
-    if (pair.valid) {
-      velocity = pair.T_21;
-    } else {
-      ++out.invalid_pairs;
-    }
-    const Eigen::Isometry3d T_w_cur = T_w_ref * pair.T_21.inverse();
-    pair.T_wc = T_w_cur;
-    if (seq.groundtruth) {
-      if (const auto gt = io::groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
-        pair.error = io::pose_error(pair.T_21, *gt);
-      }
-    }
-    out.trajectory.push_back({seq.frames[k].rgb_time, T_w_cur});
-    out.profile.merge(pair.profile);
-    if (on_pair) on_pair(pair);
-    out.pairs.push_back(std::move(pair));
-    T_w_ref = T_w_cur;
-    reference = std::move(current);
-  }
-  return out;
 }
 
 std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const TrackerOptions& options) const {

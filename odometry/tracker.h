@@ -135,12 +135,17 @@ struct PairResult {
   int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed
   double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
   double f_i = 0.0, f_d = 0.0;           // at the finest level solved
-  double seconds = 0.0;                  // pyramid + statistics + estimation (no PNG decoding), wall
+  double seconds = 0.0;                  // track_sequence: the estimation and a frame's pyramid
+                                         // + statistics (no PNG decoding), wall. The frame is the
+                                         // pair's current one with one thread; with more, the
+                                         // next pair's, prepared beside the estimation (the
+                                         // first pair: both)
   double cpu_seconds = 0.0;              // the same span in CPU time: of the process (all
                                          // threads), or of the tracking thread alone when a
                                          // frame loader runs beside it (prefetch_frames)
-  double load_seconds = 0.0;             // wall time the pair waited for its current frame to load
-                                         // (PNG decoding, undistortion): all of it without
+  double load_seconds = 0.0;             // wall time spent waiting, before the estimation, for
+                                         // the frame prepared in `seconds` to load (PNG decoding,
+                                         // undistortion): all of it without
                                          // TrackerOptions::prefetch_frames, the part the
                                          // loader thread had not finished with it
   solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
@@ -167,7 +172,9 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
-// frames (naming the sequence's frame count).
+// frames (naming the sequence's frame count). With problem.threads >= 2 the next pair's
+// current frame is prepared (pyramid, statistics) on a worker while a pair is estimated
+// (sequence_tracking.h); results do not depend on it.
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair = {});
 

@@ -8,12 +8,16 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "odometry/synth/sequence.h"
 #include "odometry/tracker.h"
+#include "solvers/error.h"
 
 namespace fs = std::filesystem;
 namespace synth = bivo::odometry::synth;
@@ -64,7 +68,8 @@ TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
 
 // Loading the next frame on a thread of its own while a pair is tracked (the default with
 // one thread) changes no estimate: the same trajectory bit for bit as loading between
-// pairs, and as two threads (which load between pairs).
+// pairs, and as two threads (which load between pairs and prepare each frame while the pair
+// before it is estimated: sequence_tracking.h).
 TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
   const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_prefetch_" + std::to_string(::getpid()));
   fs::remove_all(out);
@@ -97,6 +102,44 @@ TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
   for (const auto& p : ahead.pairs) {
     ASSERT_TRUE(p.error);
     EXPECT_LT(p.error->translation_m, 0.01);
+  }
+  fs::remove_all(out);
+}
+
+// A frame that fails to load stops the stream after the same pairs with one thread (which
+// prepares each frame right before its pair) and with two (which load and prepare it one pair
+// ahead, and must still deliver the pair before it first); the error names the file.
+TEST(SynthTracking, ABadFrameStopsOneAndTwoThreadsAfterTheSamePairs) {
+  const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_bad_frame_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  synth::SynthOptions o;
+  o.category = synth::parse_category("structure_texture_near");
+  o.frames = 6;
+  o.seed = 3;
+  const std::string seq = synth::render_sequence(o, out.string());
+  // Cut the colour image of frame 4 (rgb.txt lists the frames in order, after its comments).
+  std::ifstream list(fs::path(seq) / "rgb.txt");
+  std::vector<std::string> files;
+  for (std::string line; std::getline(list, line);) {
+    if (!line.empty() && line[0] != '#') files.push_back(line.substr(line.find(' ') + 1));
+  }
+  ASSERT_EQ(files.size(), 6u);
+  const fs::path bad = fs::path(seq) / files[4];
+  fs::resize_file(bad, fs::file_size(bad) / 2);
+
+  for (const int threads : {1, 2}) {
+    bivo::odometry::TrackerOptions t;
+    t.method = "weighted";
+    t.problem.threads = threads;
+    std::vector<int> delivered;
+    try {
+      bivo::odometry::track_sequence(seq, t, [&](const bivo::odometry::PairResult& p) { delivered.push_back(p.index); });
+      ADD_FAILURE() << "no error, threads " << threads;
+    } catch (const bivo::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(files[4]), std::string::npos) << e.what();
+    }
+    // Pairs 0-1, 1-2 and 2-3; pair 3-4 needs the bad frame.
+    EXPECT_EQ(delivered, (std::vector<int>{0, 1, 2})) << "threads " << threads;
   }
   fs::remove_all(out);
 }
