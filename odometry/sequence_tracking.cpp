@@ -64,14 +64,11 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   out.sequence = seq.name;
   out.intrinsics = seq.intrinsics;
 
-  // With one thread of per-pixel work, loading runs one frame ahead on a thread of its own
-  // (options.prefetch_frames); the tracker's work is then all on this thread, and its CPU
-  // clock gives a pair's CPU time without the loader's. Otherwise frames load between pairs
-  // and the process's clock counts the per-pixel workers too.
+  // Loading runs one frame ahead on a thread of its own (options.prefetch_frames). A pair's
+  // CPU time is the process's (this thread's and the per-pixel workers') less the loader's.
   const int threads = options.problem.threads;
-  const bool prefetch = options.prefetch_frames && threads == 1;
-  double (*const cpu_seconds)() = prefetch ? thread_cpu_seconds : process_cpu_seconds;
-  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, prefetch);
+  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, options.prefetch_frames);
+  const auto cpu_seconds = [&frames] { return process_cpu_seconds() - frames.loader_cpu_seconds(); };
   io::RgbdImage first = frames.next();
   out.load_seconds += frames.last_wait_seconds();
   auto t_prep = Clock::now();

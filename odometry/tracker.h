@@ -90,12 +90,13 @@ struct TrackerOptions {
   int first_frame = 0;              // index of the first associated frame processed
   int max_frames = -1;              // frames processed from first_frame (-1: to the end)
   bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
-  // With problem.threads = 1, track_sequence loads (decodes, undistorts) the next frame on a
-  // thread of its own while it tracks a pair (io/frame_stream.h): the same results, a
-  // fr1/rpy run in 0.64x (640x480) / 0.82x (320x240) the wall time. A pair's CPU time still
-  // excludes loading, but the decoder's memory traffic adds ~3-4 % to it at 320x240
-  // (docs/odometry.md, "Eighth round"). false, or more threads (the per-pixel passes then use
-  // the cores): frames load between pairs, on the calling thread.
+  // track_sequence loads (decodes, undistorts) the next frame on a thread of its own while it
+  // tracks a pair (io/frame_stream.h): the same results, a fr1/rpy run at one thread in 0.64x
+  // (640x480) / 0.82x (320x240) the wall time. A pair's CPU time excludes the loader's, but
+  // the decoder's memory traffic adds ~3-4 % to it at 320x240 (docs/odometry.md, "Eighth
+  // round"), and with threads >= 2 the loader takes turns with the per-pixel workers on the
+  // cores: loading, not tracking, then bounds a TUM run's wall time. false: frames load
+  // between pairs, on the calling thread.
   bool prefetch_frames = true;
   int verbosity = 0;                // passed to the solver
 };
@@ -141,8 +142,7 @@ struct PairResult {
                                          // next pair's, prepared beside the estimation (the
                                          // first pair: both)
   double cpu_seconds = 0.0;              // the same span in CPU time: of the process (all
-                                         // threads), or of the tracking thread alone when a
-                                         // frame loader runs beside it (prefetch_frames)
+                                         // threads) less the frame loader's (prefetch_frames)
   double load_seconds = 0.0;             // wall time spent waiting, before the estimation, for
                                          // the frame prepared in `seconds` to load (PNG decoding,
                                          // undistortion): all of it without

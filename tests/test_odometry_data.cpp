@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include <time.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -323,6 +324,39 @@ TEST(FrameStreamTest, ABadFrameFailsWhenItsTurnComes) {
     EXPECT_NE(msg.find("wrong image size"), std::string::npos) << msg;  // against the stream's first frame
     EXPECT_NE(msg.find(seq.frames[4].rgb_path), std::string::npos) << msg;
   }
+}
+
+// The loader's CPU clock, read from the caller's thread, is the rest of the process's CPU
+// time: what track_sequence subtracts from the process's to time a pair's own work. It still
+// reads after the last frame (the loader waits for the stream's end).
+TEST(FrameStreamTest, LoaderCpuClockIsTheProcessLessTheCaller) {
+  const std::string dir = make_sequence("stream_cpu", 4, 640, 480);
+  const TumSequence seq = open_tum_sequence(dir);
+  std::mt19937 rng(7);
+  for (const auto& frame : seq.frames) {  // noise: inflating it is real work
+    Png8 c{640, 480, 3, std::vector<std::uint8_t>(640 * 480 * 3)};
+    for (auto& v : c.data) v = static_cast<std::uint8_t>(rng());
+    write_png8(frame.rgb_path, c);
+  }
+  const Intrinsics K{517.3, 516.5, 318.6, 255.3};
+  const Distortion lens{0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  const auto cpu = [](clockid_t id) {
+    timespec ts{};
+    clock_gettime(id, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  };
+  {
+    FrameStream inline_frames(seq.frames, 0, 4, K, lens, false);
+    inline_frames.next();
+    EXPECT_EQ(inline_frames.loader_cpu_seconds(), 0.0);
+  }
+  const double process0 = cpu(CLOCK_PROCESS_CPUTIME_ID), own0 = cpu(CLOCK_THREAD_CPUTIME_ID);
+  FrameStream frames(seq.frames, 0, 4, K, lens, true);
+  for (int k = 0; k < 4; ++k) frames.next();
+  const double loader = frames.loader_cpu_seconds();
+  const double process = cpu(CLOCK_PROCESS_CPUTIME_ID) - process0, own = cpu(CLOCK_THREAD_CPUTIME_ID) - own0;
+  EXPECT_GT(loader, 0.004);  // four noisy 640x480 frames decoded and undistorted
+  EXPECT_NEAR(process - own, loader, 0.002 + 0.05 * loader) << "process " << process << " s, own " << own << " s";
 }
 
 TEST(Intrinsics, LevelScalingMatchesTheAveragedPixelGrid) {

@@ -128,8 +128,8 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
   add<bool>("--start-at-groundtruth", "first pose from groundtruth.txt when it covers the first frame (true/false)",
             d.start_at_groundtruth, [](TrackerOptions& o, const bool& v) { o.start_at_groundtruth = v; });
   add<bool>("--prefetch-frames",
-            "with --threads 1, load the next frame on a thread of its own while a pair is tracked (true/false; "
-            "same results, less wall time; with more threads frames load between pairs)",
+            "load the next frame on a thread of its own while a pair is tracked (true/false; same results, "
+            "less wall time; false: frames load between pairs)",
             d.prefetch_frames, [](TrackerOptions& o, const bool& v) { o.prefetch_frames = v; });
   add<int>("--verbosity", "solver log level", d.verbosity, [](TrackerOptions& o, const int& v) { o.verbosity = v; });
 }

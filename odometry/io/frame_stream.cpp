@@ -1,5 +1,11 @@
 #include "odometry/io/frame_stream.h"
 
+#include <fcntl.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cstdlib>
+
 #include <chrono>
 #include <string>
 #include <utility>
@@ -42,6 +48,7 @@ RgbdImage FrameStream::load(int index) {
 }
 
 void FrameStream::run() {
+  loader_tid_ = static_cast<long>(syscall(SYS_gettid));
   for (int k = begin_; k < end_; ++k) {
     {
       // One frame ahead: the next is loaded once the last one loaded has been taken.
@@ -64,6 +71,23 @@ void FrameStream::run() {
     changed_.notify_all();
     if (error) break;
   }
+  // Alive until the destructor, so that loader_cpu_seconds() can read this thread's clock.
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return stop_; });
+}
+
+double FrameStream::loader_cpu_seconds() const {
+  const long tid = loader_tid_;
+  if (!background_ || tid == 0) return 0.0;  // no loader, or not started yet
+  // The first field of schedstat: the thread's sum_exec_runtime in ns, the value Linux adds
+  // into the process's CPU clock for a thread other than the caller.
+  const std::string path = "/proc/self/task/" + std::to_string(tid) + "/schedstat";
+  char text[128] = {};
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const ssize_t n = fd < 0 ? -1 : read(fd, text, sizeof text - 1);
+  if (fd >= 0) close(fd);
+  if (n <= 0) throw Error("frame stream: cannot read the loader thread's CPU time from " + path);
+  return 1e-9 * std::strtod(text, nullptr);
 }
 
 RgbdImage FrameStream::next() {

@@ -11,6 +11,7 @@
 //
 //   FrameStream frames(seq.frames, begin, end, seq.intrinsics, seq.distortion, true);
 //   RgbdImage first = frames.next();  // throws what loading threw, in frame order
+#include <atomic>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
@@ -43,6 +44,13 @@ class FrameStream {
   // Wall time the last next() kept the caller waiting: the whole load without background,
   // what the loader had not finished yet with it.
   double last_wait_seconds() const { return last_wait_seconds_; }
+  // CPU time of the loader thread (0 without background) as the process's CPU clock counts
+  // it: Linux adds a thread other than the caller into that clock as of its last tick or
+  // switch, not the load in progress (its own clock would count that, and the process's
+  // clock minus it would under-report the caller's work by ~2 ms per 640x480 pair). So the
+  // process's CPU time minus this is the time of every other thread. The loader stays alive
+  // until the stream is destroyed, so this reads after the last frame too.
+  double loader_cpu_seconds() const;
 
  private:
   RgbdImage load(int index);  // decode + check + undistort (on the loader thread with background)
@@ -66,6 +74,7 @@ class FrameStream {
   std::exception_ptr error_;
   bool stop_ = false;
   std::thread loader_;
+  std::atomic<long> loader_tid_{0};  // the loader thread's Linux thread id, once it runs
 };
 
 }  // namespace bivo::odometry::io
