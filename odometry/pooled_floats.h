@@ -6,6 +6,13 @@
 // and zeroed by the kernel again (docs/odometry.md "Speed"). With the pool, the problems of
 // pair k + 1 reuse the pages of pair k.
 //
+// A released block goes back to the pool of the thread that allocated it, wherever it is
+// released: a frame prepared on a worker (sequence_tracking.h) and dropped by the tracking
+// thread two pairs later returns its blocks to the worker, which prepares the next frame
+// with them. (Into the releasing thread's pool, the worker allocated every frame anew and
+// the tracking thread's pool filled up with blocks it never asked for: 300 MB resident
+// instead of 60 for fr1/rpy on two threads, docs/odometry.md "Tenth round".)
+//
 // The entries of a new array are NOT initialized (a reused block holds whatever floats its
 // previous owner wrote); callers write before they read, and zero their padding themselves.
 // The pool keeps at most kMaxPooledBlocks blocks per thread (the smallest go first): one
@@ -23,6 +30,8 @@ struct AlignedFloatsDelete {
   void operator()(float* p) const;
 };
 using AlignedFloats = std::unique_ptr<float[], AlignedFloatsDelete>;
+
+struct FloatPool;  // one thread's released blocks (pooled_floats.cpp)
 
 class PooledFloats {
  public:
@@ -55,6 +64,7 @@ class PooledFloats {
   void release();
   AlignedFloats data_;
   std::size_t size_ = 0, capacity_ = 0;
+  std::shared_ptr<FloatPool> origin_;  // the pool data_ goes back to (null: freed)
 };
 
 }  // namespace bivo::odometry

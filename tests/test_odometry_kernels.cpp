@@ -457,22 +457,3 @@ TEST(RgbdKernels, PooledBuffersHoldingOtherNumbersDoNotChangeResults) {
     }
   }
 }
-
-TEST(RgbdKernels, APooledBlockIsTakenBackByTheNextArrayThatFits) {
-  // Larger than any other block of this process (the pool drops its smallest blocks when
-  // full); never written, so its pages are never touched.
-  constexpr std::size_t kLarge = std::size_t(1) << 24;
-  const float* block = nullptr;
-  {
-    PooledFloats first(kLarge);
-    block = first.data();
-    // A cache line per sixteen-lane vector (glibc alone would give 16 past a page start).
-    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(block) % 64, 0u);
-  }
-  PooledFloats second(kLarge - 100);  // the smallest pooled block that holds it
-  EXPECT_EQ(second.data(), block);
-  EXPECT_EQ(second.size(), kLarge - 100);
-  PooledFloats moved = std::move(second);
-  EXPECT_EQ(moved.data(), block);
-  EXPECT_EQ(second.size(), 0u);
-}
