@@ -84,14 +84,26 @@ double median(std::vector<double> v) {
   return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The decoded frames, or null after marking the case skipped when the shared data is absent.
+const Frames* frames_or_skip(benchmark::State& state) {
+  const Frames* f = frames();
+  if (!f) state.SkipWithError(("shared data absent: " + kRpy).c_str());
+  return f;
+}
+
+void report_pairs(benchmark::State& state, const std::vector<double>& per_pair, double iterations, int pairs) {
+  state.counters["median_ms"] = median(per_pair);
+  double sum = 0;
+  for (double v : per_pair) sum += v;
+  state.counters["mean_ms"] = per_pair.empty() ? 0.0 : sum / double(per_pair.size());
+  state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
+}
+
 // fixed_eps > 0: method bounded with that per-unit-weight bound instead of the pi(D) rule.
 void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps,
                  bool wall) {
-  const Frames* f = frames();
-  if (!f) {
-    state.SkipWithError(("shared data absent: " + kRpy).c_str());
-    return;
-  }
+  const Frames* f = frames_or_skip(state);
+  if (!f) return;
   TrackerOptions o;
   o.method = method;
   o.finest_level = finest;
@@ -127,11 +139,7 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
       }
     }
   }
-  state.counters["median_ms"] = median(per_pair);
-  double sum = 0;
-  for (double v : per_pair) sum += v;
-  state.counters["mean_ms"] = per_pair.empty() ? 0.0 : sum / double(per_pair.size());
-  state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
+  report_pairs(state, per_pair, iterations, pairs);
 }
 
 #ifdef BIVO_BENCH_STREAM
@@ -141,11 +149,8 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
 // estimate; compare with RpyPairs/weighted_1thread_wall (with one thread, track_sequence
 // prepares each frame right before its pair, as BM_RpyPairs does).
 void BM_RpyStream(benchmark::State& state, const std::string& method, int finest, int threads) {
-  const Frames* f = frames();
-  if (!f) {
-    state.SkipWithError(("shared data absent: " + kRpy).c_str());
-    return;
-  }
+  const Frames* f = frames_or_skip(state);
+  if (!f) return;
   TrackerOptions o;
   o.method = method;
   o.finest_level = finest;
@@ -178,11 +183,7 @@ void BM_RpyStream(benchmark::State& state, const std::string& method, int finest
       }
     }
   }
-  state.counters["median_ms"] = median(per_pair);
-  double sum = 0;
-  for (double v : per_pair) sum += v;
-  state.counters["mean_ms"] = per_pair.empty() ? 0.0 : sum / double(per_pair.size());
-  state.counters["it_per_pair"] = pairs ? iterations / pairs : 0.0;
+  report_pairs(state, per_pair, iterations, pairs);
 }
 #endif
 

@@ -45,6 +45,16 @@ double depth_only_rms_pair_error(const std::string& category, int frames, const 
   return std::sqrt(sum / std::max(n, 1));
 }
 
+// Six frames of a textured near scene (seed 3) rendered into a fresh `out`; the sequence.
+std::string render_six_near_frames(const fs::path& out) {
+  fs::remove_all(out);
+  synth::SynthOptions o;
+  o.category = synth::parse_category("structure_texture_near");
+  o.frames = 6;
+  o.seed = 3;
+  return synth::render_sequence(o, out.string());
+}
+
 }  // namespace
 
 TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
@@ -72,12 +82,7 @@ TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
 // before it is estimated: sequence_tracking.h).
 TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
   const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_prefetch_" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  synth::SynthOptions o;
-  o.category = synth::parse_category("structure_texture_near");
-  o.frames = 6;
-  o.seed = 3;
-  const std::string seq = synth::render_sequence(o, out.string());
+  const std::string seq = render_six_near_frames(out);
   bivo::odometry::TrackerOptions t;
   t.method = "weighted";
   const auto track = [&](bool prefetch, int threads) {
@@ -111,12 +116,7 @@ TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
 // ahead, and must still deliver the pair before it first); the error names the file.
 TEST(SynthTracking, ABadFrameStopsOneAndTwoThreadsAfterTheSamePairs) {
   const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_bad_frame_" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  synth::SynthOptions o;
-  o.category = synth::parse_category("structure_texture_near");
-  o.frames = 6;
-  o.seed = 3;
-  const std::string seq = synth::render_sequence(o, out.string());
+  const std::string seq = render_six_near_frames(out);
   // Cut the colour image of frame 4 (rgb.txt lists the frames in order, after its comments).
   std::ifstream list(fs::path(seq) / "rgb.txt");
   std::vector<std::string> files;
