@@ -1,5 +1,7 @@
 // Streaming a sequence through the tracker: frames loaded in order (io::FrameStream), each
 // prepared once (beside the pair before it), pairs estimated coarse to fine, poses chained.
+#include "odometry/sequence_tracking.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -8,8 +10,6 @@
 #include <utility>
 
 #include "odometry/io/frame_stream.h"
-#include "odometry/sequence_tracking.h"
-
 #include "odometry/parallel_chunks.h"
 #include "solvers/error.h"
 

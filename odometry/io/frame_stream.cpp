@@ -26,6 +26,7 @@ FrameStream::FrameStream(const std::vector<AssociatedFrame>& frames, int begin, 
 }
 
 FrameStream::~FrameStream() {
+  if (schedstat_fd_ >= 0) close(schedstat_fd_);
   if (!loader_.joinable()) return;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -80,12 +81,12 @@ double FrameStream::loader_cpu_seconds() const {
   const long tid = loader_tid_;
   if (!background_ || tid == 0) return 0.0;  // no loader, or not started yet
   // The first field of schedstat: the thread's sum_exec_runtime in ns, the value Linux adds
-  // into the process's CPU clock for a thread other than the caller.
+  // into the process's CPU clock for a thread other than the caller. Opened once; each
+  // pread from offset 0 formats it anew (~1 us, against ~3.5 us to open and close it).
   const std::string path = "/proc/self/task/" + std::to_string(tid) + "/schedstat";
+  if (schedstat_fd_ < 0) schedstat_fd_ = open(path.c_str(), O_RDONLY | O_CLOEXEC);
   char text[128] = {};
-  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  const ssize_t n = fd < 0 ? -1 : read(fd, text, sizeof text - 1);
-  if (fd >= 0) close(fd);
+  const ssize_t n = schedstat_fd_ < 0 ? -1 : pread(schedstat_fd_, text, sizeof text - 1, 0);
   if (n <= 0) throw Error("frame stream: cannot read the loader thread's CPU time from " + path);
   return 1e-9 * std::strtod(text, nullptr);
 }

@@ -75,6 +75,7 @@ class FrameStream {
   bool stop_ = false;
   std::thread loader_;
   std::atomic<long> loader_tid_{0};  // the loader thread's Linux thread id, once it runs
+  mutable int schedstat_fd_ = -1;    // its /proc schedstat, opened at the first read
 };
 
 }  // namespace bivo::odometry::io
