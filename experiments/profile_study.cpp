@@ -143,7 +143,8 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
   md << "Per-pixel kernels: " << kernels << " (the best instruction set of this CPU; avx2 and avx512vl give "
         "bit-identical results, avx512's sixteen lanes agree with them to float rounding)\n\n";
   md << "Time per frame pair by phase [ms] (mean over pairs; 'a/b' is a part of phase 'a'; 'unrecorded' = total "
-        "minus the phases):\n\n"
+        "minus the phases; with --threads 2 or more the next frame's pyramid is built beside the other phases, "
+        "so 'unrecorded' can be negative):\n\n"
         "| method | backend | pairs | total |";
   csv << "method,backend,pairs,total_ms";
   for (const auto& p : phases) {
