@@ -209,6 +209,7 @@ std::string study_hash(const Study& study) {
   // Threads of the per-pixel passes change no result (where the tracker has them): shards
   // may run with other thread counts than planned and still merge.
   if (parts["tracker"].contains("problem")) parts["tracker"]["problem"].erase("threads");
+  parts["tracker"].erase("load_threads");  // nor do the frame loader's
   const std::string text = parts.dump();  // keys sorted: canonical
   std::uint64_t h = 14695981039346656037ull;          // FNV-1a 64
   for (unsigned char c : text) {

@@ -10,6 +10,7 @@
 
 #include "experiments/json_object_reader.h"
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/frame_stream.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -52,6 +53,7 @@ json tracker_options_to_json(const TrackerOptions& o) {
       {"max_frames", o.max_frames},
       {"start_at_groundtruth", o.start_at_groundtruth},
       {"prefetch_frames", o.prefetch_frames},
+      {"load_threads", o.load_threads},
       {"verbosity", o.verbosity},
       {"policy", policy},
       {"problem",
@@ -103,6 +105,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
   r.integer("max_frames", o.max_frames, -1, kIntMax);
   r.boolean("start_at_groundtruth", o.start_at_groundtruth);
   r.boolean("prefetch_frames", o.prefetch_frames);
+  r.integer("load_threads", o.load_threads, 1, odometry::io::FrameStream::kMaxLoaders);
   r.integer("verbosity", o.verbosity, 0, 10);
   if (const json* p = r.find("policy")) {
     ObjectReader pr(*p, r.path("policy"));

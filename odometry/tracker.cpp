@@ -10,6 +10,7 @@
 #include <sstream>
 #include <utility>
 
+#include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -122,6 +123,10 @@ void validate(const TrackerOptions& options) {
   }
   if (options.problem.threads < 1 || options.problem.threads > 256) {
     throw Error("threads must be in 1..256, got " + std::to_string(options.problem.threads));
+  }
+  if (options.load_threads < 1 || options.load_threads > io::FrameStream::kMaxLoaders) {
+    throw Error("load threads must be in 1.." + std::to_string(io::FrameStream::kMaxLoaders) + ", got " +
+                std::to_string(options.load_threads));
   }
   if (method == Method::kWeighted && !(options.policy.phi > 0.0 && std::isfinite(options.policy.phi))) {
     throw Error("phi must be finite and > 0, got " + std::to_string(options.policy.phi));

@@ -95,9 +95,14 @@ struct TrackerOptions {
   // (640x480) / 0.82x (320x240) the wall time. A pair's CPU time excludes the loader's, but
   // the decoder's memory traffic adds ~3-4 % to it at 320x240 (docs/odometry.md, "Eighth
   // round"), and with threads >= 2 the loader takes turns with the per-pixel workers on the
-  // cores: loading, not tracking, then bounds a TUM run's wall time. false: frames load
-  // between pairs, on the calling thread.
+  // cores. false: frames load between pairs, on the calling thread.
   bool prefetch_frames = true;
+  // With prefetch_frames: loader threads, each decoding a frame of its own, so up to this many
+  // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~18 ms per
+  // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240); two let a run
+  // use both cores of a two-core machine (docs/odometry.md, "Eleventh round"). Results do not
+  // depend on it.
+  int load_threads = 2;
   int verbosity = 0;                // passed to the solver
 };
 

@@ -279,8 +279,9 @@ TEST(FrameStreamTest, DeliversWhatLoadingAndUndistortingEachFrameGives) {
   const Intrinsics K{14.0, 13.0, 7.6, 5.4};
   const Distortion lens{0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
   const Undistortion map(K, lens, 16, 12);
-  for (const bool background : {false, true}) {
-    FrameStream frames(seq.frames, 1, 5, K, lens, background);
+  for (const int loaders : {0, 1, 2, 3}) {
+    const bool background = loaders > 0;
+    FrameStream frames(seq.frames, 1, 5, K, lens, loaders);
     for (int k = 1; k < 5; ++k) {
       RgbdImage expected = load_rgbd_image(seq.frames[static_cast<std::size_t>(k)]);
       const RgbdImage raw = expected;
@@ -288,8 +289,8 @@ TEST(FrameStreamTest, DeliversWhatLoadingAndUndistortingEachFrameGives) {
       // Time for the loader to run ahead, if it would: it must wait for this frame to be taken.
       if (background) std::this_thread::sleep_for(std::chrono::milliseconds(5));
       const RgbdImage got = frames.next();
-      EXPECT_EQ(got.intensity, expected.intensity) << k << " " << background;
-      EXPECT_EQ(got.depth, expected.depth) << k << " " << background;
+      EXPECT_EQ(got.intensity, expected.intensity) << k << " " << loaders;
+      EXPECT_EQ(got.depth, expected.depth) << k << " " << loaders;
       EXPECT_NE(got.intensity, raw.intensity) << k;  // the lens was applied
       EXPECT_DOUBLE_EQ(got.timestamp, seq.frames[static_cast<std::size_t>(k)].rgb_time);
       EXPECT_GE(frames.last_wait_seconds(), 0.0);
@@ -298,8 +299,10 @@ TEST(FrameStreamTest, DeliversWhatLoadingAndUndistortingEachFrameGives) {
     EXPECT_NE(msg.find("all 4 frames"), std::string::npos) << msg;
   }
   // A stream left with frames unread stops at once (the loader waits to hand over the next).
-  { FrameStream(seq.frames, 0, 5, K, lens, true).next(); }
-  EXPECT_NE(error_of([&] { FrameStream(seq.frames, 3, 3, K, lens, true); }).find("[3, 3)"), std::string::npos);
+  { FrameStream(seq.frames, 0, 5, K, lens, 1).next(); }
+  { FrameStream(seq.frames, 0, 5, K, lens, 3).next(); }
+  EXPECT_NE(error_of([&] { FrameStream(seq.frames, 3, 3, K, lens, 1); }).find("[3, 3)"), std::string::npos);
+  EXPECT_NE(error_of([&] { FrameStream(seq.frames, 0, 3, K, lens, -1); }).find("-1 loader"), std::string::npos);
 }
 
 TEST(FrameStreamTest, ABadFrameFailsWhenItsTurnComes) {
@@ -309,8 +312,8 @@ TEST(FrameStreamTest, ABadFrameFailsWhenItsTurnComes) {
   Png16 small{8, 12, std::vector<std::uint16_t>(8 * 12, 5000)};
   write_png16(seq.frames[4].depth_path, small);  // the wrong size
   write_png8(seq.frames[4].rgb_path, Png8{8, 12, 3, std::vector<std::uint8_t>(8 * 12 * 3, 9)});
-  for (const bool background : {false, true}) {
-    FrameStream frames(seq.frames, 0, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, background);
+  for (const int loaders : {0, 1, 2, 3}) {
+    FrameStream frames(seq.frames, 0, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, loaders);
     EXPECT_DOUBLE_EQ(frames.next().timestamp, seq.frames[0].rgb_time);
     EXPECT_DOUBLE_EQ(frames.next().timestamp, seq.frames[1].rgb_time);
     for (int again = 0; again < 2; ++again) {  // the error stays; nothing after it is delivered
@@ -318,7 +321,7 @@ TEST(FrameStreamTest, ABadFrameFailsWhenItsTurnComes) {
       EXPECT_NE(msg.find(seq.frames[2].rgb_path), std::string::npos) << msg;
       EXPECT_NE(msg.find("rgb.txt:6"), std::string::npos) << msg;
     }
-    FrameStream from3(seq.frames, 3, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, background);
+    FrameStream from3(seq.frames, 3, 5, Intrinsics{14.0, 13.0, 7.6, 5.4}, Distortion{}, loaders);
     EXPECT_EQ(from3.next().width, 16);
     const std::string msg = error_of([&] { from3.next(); });
     EXPECT_NE(msg.find("wrong image size"), std::string::npos) << msg;  // against the stream's first frame
@@ -346,17 +349,20 @@ TEST(FrameStreamTest, LoaderCpuClockIsTheProcessLessTheCaller) {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
   };
   {
-    FrameStream inline_frames(seq.frames, 0, 4, K, lens, false);
+    FrameStream inline_frames(seq.frames, 0, 4, K, lens, 0);
     inline_frames.next();
     EXPECT_EQ(inline_frames.loader_cpu_seconds(), 0.0);
   }
-  const double process0 = cpu(CLOCK_PROCESS_CPUTIME_ID), own0 = cpu(CLOCK_THREAD_CPUTIME_ID);
-  FrameStream frames(seq.frames, 0, 4, K, lens, true);
-  for (int k = 0; k < 4; ++k) frames.next();
-  const double loader = frames.loader_cpu_seconds();
-  const double process = cpu(CLOCK_PROCESS_CPUTIME_ID) - process0, own = cpu(CLOCK_THREAD_CPUTIME_ID) - own0;
-  EXPECT_GT(loader, 0.004);  // four noisy 640x480 frames decoded and undistorted
-  EXPECT_NEAR(process - own, loader, 0.002 + 0.05 * loader) << "process " << process << " s, own " << own << " s";
+  for (const int loaders : {1, 2}) {  // two: the sum of both threads' clocks
+    const double process0 = cpu(CLOCK_PROCESS_CPUTIME_ID), own0 = cpu(CLOCK_THREAD_CPUTIME_ID);
+    FrameStream frames(seq.frames, 0, 4, K, lens, loaders);
+    for (int k = 0; k < 4; ++k) frames.next();
+    const double loader = frames.loader_cpu_seconds();
+    const double process = cpu(CLOCK_PROCESS_CPUTIME_ID) - process0, own = cpu(CLOCK_THREAD_CPUTIME_ID) - own0;
+    EXPECT_GT(loader, 0.004);  // four noisy 640x480 frames decoded and undistorted
+    EXPECT_NEAR(process - own, loader, 0.002 + 0.05 * loader)
+        << loaders << " loaders: process " << process << " s, own " << own << " s";
+  }
 }
 
 TEST(Intrinsics, LevelScalingMatchesTheAveragedPixelGrid) {

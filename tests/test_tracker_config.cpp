@@ -40,6 +40,7 @@ TrackerOptions unusual_options() {
   o.max_frames = 9;
   o.start_at_groundtruth = false;
   o.prefetch_frames = false;
+  o.load_threads = 3;
   o.verbosity = 2;
   o.policy.lambda = 12345.678901234567;
   o.policy.phi = 3.0e-7;
@@ -102,6 +103,7 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.max_frames, o.max_frames);
   EXPECT_EQ(back.start_at_groundtruth, o.start_at_groundtruth);
   EXPECT_EQ(back.prefetch_frames, o.prefetch_frames);
+  EXPECT_EQ(back.load_threads, o.load_threads);
   EXPECT_EQ(back.verbosity, o.verbosity);
   EXPECT_EQ(back.policy.lambda, o.policy.lambda);
   EXPECT_EQ(back.policy.phi, o.policy.phi);

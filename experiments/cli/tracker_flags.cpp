@@ -3,6 +3,7 @@
 
 #include "experiments/tracker_config.h"
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/io/frame_stream.h"
 #include "odometry/io/lens_distortion.h"
 #include "odometry/odometry_methods.h"
 #include "solvers/backend_registry.h"
@@ -131,6 +132,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
             "load the next frame on a thread of its own while a pair is tracked (true/false; same results, "
             "less wall time; false: frames load between pairs)",
             d.prefetch_frames, [](TrackerOptions& o, const bool& v) { o.prefetch_frames = v; });
+  add<int>("--load-threads",
+           "with --prefetch-frames: threads decoding frames ahead, one frame each (1.." +
+               std::to_string(odometry::io::FrameStream::kMaxLoaders) + "; same results)",
+           d.load_threads, [](TrackerOptions& o, const int& v) { o.load_threads = v; });
   add<int>("--verbosity", "solver log level", d.verbosity, [](TrackerOptions& o, const int& v) { o.verbosity = v; });
 }
 

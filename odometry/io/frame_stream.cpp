@@ -15,62 +15,76 @@
 namespace bivo::odometry::io {
 
 FrameStream::FrameStream(const std::vector<AssociatedFrame>& frames, int begin, int end, const Intrinsics& K,
-                         const Distortion& distortion, bool background)
-    : frames_(frames), begin_(begin), end_(end), K_(K), distortion_(distortion), background_(background) {
+                         const Distortion& distortion, int loaders)
+    : frames_(frames), begin_(begin), end_(end), K_(K), distortion_(distortion), loaders_(loaders) {
   if (begin < 0 || end > static_cast<int>(frames.size()) || begin >= end) {
     throw Error("frame stream: frames [" + std::to_string(begin) + ", " + std::to_string(end) + ") of a sequence of " +
                 std::to_string(frames.size()));
   }
-  if (!background_) return;
-  loader_ = std::thread([this] { run(); });
+  if (loaders < 0 || loaders > kMaxLoaders) {
+    throw Error("frame stream: " + std::to_string(loaders) + " loader threads, expected 0.." +
+                std::to_string(kMaxLoaders));
+  }
+  next_to_load_ = begin;
+  loader_tids_ = std::make_unique<std::atomic<long>[]>(static_cast<std::size_t>(loaders));
+  schedstat_fds_.assign(static_cast<std::size_t>(loaders), -1);
+  for (int l = 0; l < loaders; ++l) threads_.emplace_back([this, l] { run(l); });
 }
 
 FrameStream::~FrameStream() {
-  if (schedstat_fd_ >= 0) close(schedstat_fd_);
-  if (!loader_.joinable()) return;
+  for (const int fd : schedstat_fds_) {
+    if (fd >= 0) close(fd);
+  }
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
   }
   changed_.notify_all();
-  loader_.join();
+  for (std::thread& t : threads_) t.join();
 }
 
-RgbdImage FrameStream::load(int index) {
-  const AssociatedFrame& frame = frames_[static_cast<std::size_t>(index)];
-  RgbdImage image = load_rgbd_image(frame, width_, height_);
-  if (!undistortion_) {
-    width_ = image.width;
-    height_ = image.height;
-    undistortion_.emplace(K_, distortion_, width_, height_);
+FrameStream::Loaded FrameStream::load(int index, int width, int height, std::optional<Undistortion>& map) const {
+  Loaded out;
+  try {
+    RgbdImage image = load_rgbd_image(frames_[static_cast<std::size_t>(index)], width, height);
+    if (!map) map.emplace(K_, distortion_, image.width, image.height);
+    map->apply(image);
+    out.image = std::move(image);
+  } catch (...) {
+    out.error = std::current_exception();
   }
-  undistortion_->apply(image);
-  return image;
+  return out;
 }
 
-void FrameStream::run() {
-  loader_tid_ = static_cast<long>(syscall(SYS_gettid));
-  for (int k = begin_; k < end_; ++k) {
+void FrameStream::run(int loader) {
+  loader_tids_[static_cast<std::size_t>(loader)] = static_cast<long>(syscall(SYS_gettid));
+  std::optional<Undistortion> map;  // this thread's
+  for (;;) {
+    int index = 0, width = 0, height = 0;
     {
-      // One frame ahead: the next is loaded once the last one loaded has been taken.
+      // Up to loaders_ frames ahead of the caller; frames after the first once its size is
+      // known (the others are checked against it).
       std::unique_lock<std::mutex> lock(mutex_);
-      changed_.wait(lock, [this] { return stop_ || !ready_; });
-      if (stop_) break;
+      changed_.wait(lock, [this] {
+        return stop_ || failed_ || next_to_load_ >= end_ ||
+               (next_to_load_ - (begin_ + delivered_) < loaders_ && (next_to_load_ == begin_ || width_ > 0));
+      });
+      if (stop_ || failed_ || next_to_load_ >= end_) break;
+      index = next_to_load_++;
+      width = width_;
+      height = height_;
     }
-    std::optional<RgbdImage> image;
-    std::exception_ptr error;
-    try {
-      image = load(k);
-    } catch (...) {
-      error = std::current_exception();
-    }
+    Loaded frame = load(index, width, height, map);
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      ready_ = std::move(image);
-      error_ = error;
+      if (index == begin_ && frame.image) {
+        width_ = frame.image->width;
+        height_ = frame.image->height;
+      }
+      if (frame.error) failed_ = true;
+      loaded_.emplace(index, std::move(frame));
     }
     changed_.notify_all();
-    if (error) break;
   }
   // Alive until the destructor, so that loader_cpu_seconds() can read this thread's clock.
   std::unique_lock<std::mutex> lock(mutex_);
@@ -78,37 +92,50 @@ void FrameStream::run() {
 }
 
 double FrameStream::loader_cpu_seconds() const {
-  const long tid = loader_tid_;
-  if (!background_ || tid == 0) return 0.0;  // no loader, or not started yet
-  // The first field of schedstat: the thread's sum_exec_runtime in ns, the value Linux adds
-  // into the process's CPU clock for a thread other than the caller. Opened once; each
-  // pread from offset 0 formats it anew (~1 us, against ~3.5 us to open and close it).
-  const std::string path = "/proc/self/task/" + std::to_string(tid) + "/schedstat";
-  if (schedstat_fd_ < 0) schedstat_fd_ = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  char text[128] = {};
-  const ssize_t n = schedstat_fd_ < 0 ? -1 : pread(schedstat_fd_, text, sizeof text - 1, 0);
-  if (n <= 0) throw Error("frame stream: cannot read the loader thread's CPU time from " + path);
-  return 1e-9 * std::strtod(text, nullptr);
+  double total = 0.0;
+  for (int l = 0; l < loaders_; ++l) {
+    const long tid = loader_tids_[static_cast<std::size_t>(l)];
+    if (tid == 0) continue;  // not started yet
+    // The first field of schedstat: the thread's sum_exec_runtime in ns, the value Linux adds
+    // into the process's CPU clock for a thread other than the caller. Opened once; each
+    // pread from offset 0 formats it anew (~1 us, against ~3.5 us to open and close it).
+    const std::string path = "/proc/self/task/" + std::to_string(tid) + "/schedstat";
+    int& fd = schedstat_fds_[static_cast<std::size_t>(l)];
+    if (fd < 0) fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    char text[128] = {};
+    const ssize_t n = fd < 0 ? -1 : pread(fd, text, sizeof text - 1, 0);
+    if (n <= 0) throw Error("frame stream: cannot read a loader thread's CPU time from " + path);
+    total += 1e-9 * std::strtod(text, nullptr);
+  }
+  return total;
 }
 
 RgbdImage FrameStream::next() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
   if (delivered_ >= end_ - begin_) {
     throw Error("frame stream: all " + std::to_string(end_ - begin_) + " frames were delivered");
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const int index = begin_ + delivered_;
   RgbdImage image;
-  if (!background_) {
-    image = load(begin_ + delivered_);
+  if (loaders_ == 0) {
+    Loaded frame = load(index, width_, height_, undistortion_);
+    if (!frame.image) std::rethrow_exception(frame.error);
+    if (index == begin_) {
+      width_ = frame.image->width;
+      height_ = frame.image->height;
+    }
+    image = std::move(*frame.image);
   } else {
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return ready_.has_value() || error_; });
-    if (!ready_) std::rethrow_exception(error_);
-    image = std::move(*ready_);
-    ready_.reset();
-    lock.unlock();
-    changed_.notify_all();
+    changed_.wait(lock, [&] { return loaded_.count(index) > 0; });
+    const auto it = loaded_.find(index);
+    if (!it->second.image) std::rethrow_exception(it->second.error);  // kept: asked again, thrown again
+    image = std::move(*it->second.image);
+    loaded_.erase(it);
   }
   ++delivered_;
+  lock.unlock();
+  changed_.notify_all();
   last_wait_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return image;
 }
