@@ -28,13 +28,22 @@ FrameStream::FrameStream(const std::vector<AssociatedFrame>& frames, int begin, 
   next_to_load_ = begin;
   loader_tids_ = std::make_unique<std::atomic<long>[]>(static_cast<std::size_t>(loaders));
   schedstat_fds_.assign(static_cast<std::size_t>(loaders), -1);
-  for (int l = 0; l < loaders; ++l) threads_.emplace_back([this, l] { run(l); });
+  try {
+    for (int l = 0; l < loaders; ++l) threads_.emplace_back([this, l] { run(l); });
+  } catch (...) {  // a thread could not start: no destructor will stop those that did
+    stop_loaders();
+    throw;
+  }
 }
 
 FrameStream::~FrameStream() {
   for (const int fd : schedstat_fds_) {
     if (fd >= 0) close(fd);
   }
+  stop_loaders();
+}
+
+void FrameStream::stop_loaders() {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;

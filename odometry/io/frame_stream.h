@@ -68,6 +68,7 @@ class FrameStream {
   // the frame's size when empty (a map keeps buffers for its thread: one per loader).
   Loaded load(int index, int width, int height, std::optional<Undistortion>& map) const;
   void run(int loader);  // one loader thread
+  void stop_loaders();   // ends and joins the loader threads (each finishes its frame first)
 
   const std::vector<AssociatedFrame>& frames_;
   const int begin_, end_;
