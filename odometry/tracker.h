@@ -98,7 +98,7 @@ struct TrackerOptions {
   // cores. false: frames load between pairs, on the calling thread.
   bool prefetch_frames = true;
   // With prefetch_frames: loader threads, each decoding a frame of its own, so up to this many
-  // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~18 ms per
+  // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~17 ms per
   // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240); two let a run
   // use both cores of a two-core machine (docs/odometry.md, "Eleventh round"). Results do not
   // depend on it.

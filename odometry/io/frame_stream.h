@@ -2,7 +2,7 @@
 // The frames of a sequence in order, each decoded, checked and undistorted, for a tracker
 // that takes them one at a time.
 //
-// Loading a frame costs more than tracking a pair (fr1/rpy: ~16 ms of PNG decoding and
+// Loading a frame costs more than tracking a pair (fr1/rpy: ~17 ms of PNG decoding and
 // undistortion per frame against ~4.5 ms for a weighted pair at 320x240), and nothing in it
 // depends on the tracking. With `loaders` >= 1 the stream loads on threads of its own, each
 // frame on one of them, up to `loaders` frames ahead of the caller: with one, while the caller
