@@ -105,7 +105,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
   r.integer("max_frames", o.max_frames, -1, kIntMax);
   r.boolean("start_at_groundtruth", o.start_at_groundtruth);
   r.boolean("prefetch_frames", o.prefetch_frames);
-  r.integer("load_threads", o.load_threads, 1, odometry::io::FrameStream::kMaxLoaders);
+  r.integer("load_threads", o.load_threads, 0, odometry::io::FrameStream::kMaxLoaders);
   r.integer("verbosity", o.verbosity, 0, 10);
   if (const json* p = r.find("policy")) {
     ObjectReader pr(*p, r.path("policy"));

@@ -67,8 +67,7 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   // Loading runs ahead on threads of its own (options.prefetch_frames, load_threads). A pair's
   // CPU time is the process's (this thread's and the per-pixel workers') less the loaders'.
   const int threads = options.problem.threads;
-  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion,
-                         options.prefetch_frames ? options.load_threads : 0);
+  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, load_threads_for(options));
   const auto cpu_seconds = [&frames] { return process_cpu_seconds() - frames.loader_cpu_seconds(); };
   io::RgbdImage first = frames.next();
   out.load_seconds += frames.last_wait_seconds();

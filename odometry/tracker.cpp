@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "odometry/io/frame_stream.h"
@@ -124,8 +125,8 @@ void validate(const TrackerOptions& options) {
   if (options.problem.threads < 1 || options.problem.threads > 256) {
     throw Error("threads must be in 1..256, got " + std::to_string(options.problem.threads));
   }
-  if (options.load_threads < 1 || options.load_threads > io::FrameStream::kMaxLoaders) {
-    throw Error("load threads must be in 1.." + std::to_string(io::FrameStream::kMaxLoaders) + ", got " +
+  if (options.load_threads < 0 || options.load_threads > io::FrameStream::kMaxLoaders) {
+    throw Error("load threads must be in 0.." + std::to_string(io::FrameStream::kMaxLoaders) + " (0: auto), got " +
                 std::to_string(options.load_threads));
   }
   if (method == Method::kWeighted && !(options.policy.phi > 0.0 && std::isfinite(options.policy.phi))) {
@@ -138,6 +139,13 @@ void validate(const TrackerOptions& options) {
     throw Error("max frames must be at least 2 (one frame pair) or -1 for all, got " +
                 std::to_string(options.max_frames));
   }
+}
+
+int load_threads_for(const TrackerOptions& options, unsigned cores) {
+  if (!options.prefetch_frames) return 0;
+  if (options.load_threads > 0) return options.load_threads;
+  if (cores == 0) cores = std::thread::hardware_concurrency();  // 0 when unknown: one loader
+  return static_cast<long>(cores) >= static_cast<long>(options.problem.threads) + 2 ? 2 : 1;
 }
 
 PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int levels, int threads, int finest_level,

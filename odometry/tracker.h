@@ -99,12 +99,18 @@ struct TrackerOptions {
   bool prefetch_frames = true;
   // With prefetch_frames: loader threads, each decoding a frame of its own, so up to this many
   // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~17 ms per
-  // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240); two let a run
-  // use both cores of a two-core machine (docs/odometry.md, "Eleventh round"). Results do not
-  // depend on it.
-  int load_threads = 2;
+  // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240): two finish a
+  // run sooner, but where they share the cores with the tracker they stretch every pair's
+  // wall time, which `bivo profile` and the runtime tables report (docs/odometry.md,
+  // "Eleventh round"). 0 = auto: two when the machine has a core for each beside the
+  // per-pixel threads, else one (load_threads_for()). Results do not depend on it.
+  int load_threads = 0;
   int verbosity = 0;                // passed to the solver
 };
+
+// The loader threads `options` asks for: load_threads, or for 0 two when `cores` (0: this
+// machine's) leave a core for each beside problem.threads, else one; 0 without prefetch_frames.
+int load_threads_for(const TrackerOptions& options, unsigned cores = 0);
 
 // Checks names and numbers up front (unknown method/backend, backend that cannot solve the
 // method's scalarization, levels < 1, ...); throws bivo::Error listing valid choices.

@@ -219,6 +219,28 @@ TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
   }
 }
 
+// Two frame loaders only where each gets a core of its own beside the per-pixel threads:
+// otherwise they stretch every pair's wall time (docs/odometry.md, "Eleventh round").
+TEST(Tracker, AutoLoadThreadsTakeOnlyFreeCores) {
+  TrackerOptions o;
+  EXPECT_EQ(o.load_threads, 0);  // auto by default
+  EXPECT_EQ(load_threads_for(o, 2), 1);  // one thread + two loaders > 2 cores
+  EXPECT_EQ(load_threads_for(o, 3), 2);
+  o.problem.threads = 2;
+  EXPECT_EQ(load_threads_for(o, 3), 1);
+  EXPECT_EQ(load_threads_for(o, 4), 2);
+  EXPECT_EQ(load_threads_for(o, 64), 2);
+  o.load_threads = 3;  // asked for: as asked, whatever the cores
+  EXPECT_EQ(load_threads_for(o, 2), 3);
+  o.prefetch_frames = false;  // no loader threads at all
+  EXPECT_EQ(load_threads_for(o, 64), 0);
+  o = TrackerOptions{};
+  o.load_threads = -1;
+  EXPECT_NE(error_of([&] { validate(o); }).find("load threads must be in 0..16"), std::string::npos);
+  o.load_threads = 17;
+  EXPECT_THROW(validate(o), Error);
+}
+
 TEST(Tracker, BadOptionsListTheValidChoices) {
   TrackerOptions o;
   o.method = "magic";
