@@ -1,5 +1,6 @@
 #include "odometry/tracker.h"
 
+#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
@@ -141,10 +142,23 @@ void validate(const TrackerOptions& options) {
   }
 }
 
+namespace {
+
+// The processors this process may run on (its affinity mask: taskset, Slurm's task binding),
+// else the machine's; 0 when unknown.
+unsigned usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) return static_cast<unsigned>(CPU_COUNT(&set));
+  return std::thread::hardware_concurrency();
+}
+
+}  // namespace
+
 int load_threads_for(const TrackerOptions& options, unsigned cores) {
   if (!options.prefetch_frames) return 0;
   if (options.load_threads > 0) return options.load_threads;
-  if (cores == 0) cores = std::thread::hardware_concurrency();  // 0 when unknown: one loader
+  if (cores == 0) cores = usable_cores();
   return static_cast<long>(cores) >= static_cast<long>(options.problem.threads) + 2 ? 2 : 1;
 }
 

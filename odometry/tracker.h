@@ -108,8 +108,9 @@ struct TrackerOptions {
   int verbosity = 0;                // passed to the solver
 };
 
-// The loader threads `options` asks for: load_threads, or for 0 two when `cores` (0: this
-// machine's) leave a core for each beside problem.threads, else one; 0 without prefetch_frames.
+// The loader threads `options` asks for: load_threads, or for 0 two when `cores` (0: the
+// processors this process may run on) leave a core for each beside problem.threads, else
+// one; 0 without prefetch_frames.
 int load_threads_for(const TrackerOptions& options, unsigned cores = 0);
 
 // Checks names and numbers up front (unknown method/backend, backend that cannot solve the

@@ -134,7 +134,7 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
             d.prefetch_frames, [](TrackerOptions& o, const bool& v) { o.prefetch_frames = v; });
   add<int>("--load-threads",
            "with --prefetch-frames: threads decoding frames ahead, one frame each (0 = auto: 2 when the "
-           "machine has a core for each beside --threads, else 1; up to " +
+           "processors this process may use have a core for each beside --threads, else 1; up to " +
                std::to_string(odometry::io::FrameStream::kMaxLoaders) +
                "; same results; more than the free cores stretch each pair's wall time)",
            d.load_threads, [](TrackerOptions& o, const int& v) { o.load_threads = v; });
