@@ -102,8 +102,9 @@ struct TrackerOptions {
   // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240): two finish a
   // run sooner, but where they share the cores with the tracker they stretch every pair's
   // wall time, which `bivo profile` and the runtime tables report (docs/odometry.md,
-  // "Eleventh round"). 0 = auto: two when the machine has a core for each beside the
-  // per-pixel threads, else one (load_threads_for()). Results do not depend on it.
+  // "Eleventh round"). 0 = auto: two when the processors this process may run on have a core
+  // for each beside the per-pixel threads, else one (load_threads_for()). Results do not
+  // depend on it.
   int load_threads = 0;
   int verbosity = 0;                // passed to the solver
 };
@@ -154,12 +155,12 @@ struct PairResult {
                                          // next pair's, prepared beside the estimation (the
                                          // first pair: both)
   double cpu_seconds = 0.0;              // the same span in CPU time: of the process (all
-                                         // threads) less the frame loader's (prefetch_frames)
+                                         // threads) less the frame loaders' (prefetch_frames)
   double load_seconds = 0.0;             // wall time spent waiting, before the estimation, for
                                          // the frame prepared in `seconds` to load (PNG decoding,
                                          // undistortion): all of it without
                                          // TrackerOptions::prefetch_frames, the part the
-                                         // loader thread had not finished with it
+                                         // loader threads had not finished with it
   solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
   std::vector<LevelResult> levels;       // coarse to fine
   std::optional<io::PoseError> error;        // against ground truth, when available

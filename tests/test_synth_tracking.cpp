@@ -76,23 +76,25 @@ TEST(SynthTracking, DepthAloneTracksTheStructureSceneButNotThePlane) {
   fs::remove_all(out);
 }
 
-// Loading the next frame on a thread of its own while a pair is tracked (the default with
-// one thread) changes no estimate: the same trajectory bit for bit as loading between
-// pairs, and as two threads (which load between pairs and prepare each frame while the pair
-// before it is estimated: sequence_tracking.h).
+// Loading the next frame on a thread of its own while a pair is tracked changes no estimate:
+// the same trajectory bit for bit as loading between pairs, as two threads (which prepare
+// each frame while the pair before it is estimated: sequence_tracking.h), and as three frame
+// loaders (frames decoded out of order, delivered in order).
 TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
   const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_prefetch_" + std::to_string(::getpid()));
   const std::string seq = render_six_near_frames(out);
   bivo::odometry::TrackerOptions t;
   t.method = "weighted";
-  const auto track = [&](bool prefetch, int threads) {
+  const auto track = [&](bool prefetch, int threads, int loaders) {
     t.prefetch_frames = prefetch;
     t.problem.threads = threads;
+    t.load_threads = loaders;
     return bivo::odometry::track_sequence(seq, t);
   };
-  const bivo::odometry::TrackResult ahead = track(true, 1), between = track(false, 1), two = track(true, 2);
+  const bivo::odometry::TrackResult ahead = track(true, 1, 1), between = track(false, 1, 1), two = track(true, 2, 1),
+                                    three_loaders = track(true, 1, 3), both = track(true, 2, 3);
   ASSERT_EQ(ahead.trajectory.size(), 6u);
-  for (const auto* other : {&between, &two}) {
+  for (const auto* other : {&between, &two, &three_loaders, &both}) {
     ASSERT_EQ(other->trajectory.size(), ahead.trajectory.size());
     for (std::size_t k = 0; k < ahead.trajectory.size(); ++k) {
       EXPECT_EQ(other->trajectory[k].T_wc.matrix(), ahead.trajectory[k].T_wc.matrix()) << k;
@@ -128,18 +130,22 @@ TEST(SynthTracking, ABadFrameStopsOneAndTwoThreadsAfterTheSamePairs) {
   fs::resize_file(bad, fs::file_size(bad) / 2);
 
   for (const int threads : {1, 2}) {
-    bivo::odometry::TrackerOptions t;
-    t.method = "weighted";
-    t.problem.threads = threads;
-    std::vector<int> delivered;
-    try {
-      bivo::odometry::track_sequence(seq, t, [&](const bivo::odometry::PairResult& p) { delivered.push_back(p.index); });
-      ADD_FAILURE() << "no error, threads " << threads;
-    } catch (const bivo::Error& e) {
-      EXPECT_NE(std::string(e.what()).find(files[4]), std::string::npos) << e.what();
+    for (const int loaders : {1, 3}) {  // three: frame 5 may be decoded before frame 4 fails
+      bivo::odometry::TrackerOptions t;
+      t.method = "weighted";
+      t.problem.threads = threads;
+      t.load_threads = loaders;
+      std::vector<int> delivered;
+      try {
+        bivo::odometry::track_sequence(seq, t,
+                                       [&](const bivo::odometry::PairResult& p) { delivered.push_back(p.index); });
+        ADD_FAILURE() << "no error, threads " << threads << ", loaders " << loaders;
+      } catch (const bivo::Error& e) {
+        EXPECT_NE(std::string(e.what()).find(files[4]), std::string::npos) << e.what();
+      }
+      // Pairs 0-1, 1-2 and 2-3; pair 3-4 needs the bad frame.
+      EXPECT_EQ(delivered, (std::vector<int>{0, 1, 2})) << "threads " << threads << ", loaders " << loaders;
     }
-    // Pairs 0-1, 1-2 and 2-3; pair 3-4 needs the bad frame.
-    EXPECT_EQ(delivered, (std::vector<int>{0, 1, 2})) << "threads " << threads;
   }
   fs::remove_all(out);
 }
