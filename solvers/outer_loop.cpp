@@ -1,6 +1,7 @@
 // linearize -> scalarize -> step -> retract, until a tolerance or the budget stops it.
 #include "solvers/outer_loop.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,21 @@ double merit(const std::array<double, 2>& f, const Subproblem& sp, const StepRes
   if (sp.kind == ScalarizationKind::kWeightedSum) return f[0] + sp.lambda * f[1];
   if (!std::isfinite(step.multiplier)) return f[1];
   return f[0] + step.multiplier * f[1];
+}
+
+// SolverOptions::max_step_extrapolation: the factor for `delta`, given the previous
+// iteration's step `previous` (as the backend returned it) and the factor it was taken
+// with. A plain step shrinking by rho per iteration leaves a tail of rho / (1 - rho) of
+// itself: 1 / (1 - rho) covers it. After a step taken s times, the next plain step is
+// (1 - s (1 - rho)) of it, from which rho is recovered.
+double extrapolation_factor(const Eigen::VectorXd& delta, const Eigen::VectorXd& previous, double previous_scale,
+                            double max_factor) {
+  const double n = delta.norm(), n_previous = previous.norm();
+  if (!(max_factor > 1.0) || !(n > 0.0) || !(n_previous > 0.0)) return 1.0;
+  if (delta.dot(previous) < 0.7 * n * n_previous) return 1.0;  // turned: not a crawl
+  const double rho = 1.0 - (1.0 - n / n_previous) / previous_scale;
+  if (!(rho > 0.2 && rho < 0.95)) return 1.0;
+  return std::min(max_factor, 1.0 / (1.0 - rho));
 }
 
 }  // namespace
@@ -88,6 +104,8 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   summary.termination = TerminationReason::kMaxIterations;
   summary.message = "reached max_iterations = " + std::to_string(options.max_iterations);
 
+  Eigen::VectorXd previous_step;  // the last iteration's step (extrapolation; empty before)
+  double previous_scale = 1.0;
   int consecutive_rejections = 0;
   const int max_rejections = 30;  // LM: damping grows 4x per rejection, 4^30 ~ 1e18
   bool last_feasible = true;
@@ -146,15 +164,33 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
         break;
       }
     }
-    const Eigen::VectorXd x_new = manifold.retract(x, step.delta);
-    std::array<double, 2> f_new{NAN, NAN};
-    if (x_new.allFinite()) {
+    // The last step, whatever its value (the tests below stop on it): nothing will
+    // linearize at x_new.
+    const bool last = rec.step_norm < options.step_tolerance || it == options.max_iterations;
+    const auto evaluate_at = [&](const Eigen::VectorXd& at) {
+      if (!at.allFinite()) return std::array<double, 2>{NAN, NAN};
       ScopedPhase phase(&summary.phases, "residuals");  // evaluate() is a residual pass
-      // The last step, whatever its value (the tests below stop on it): nothing will
-      // linearize at x_new.
-      const bool last = rec.step_norm < options.step_tolerance || it == options.max_iterations;
-      f_new = last && !options.keep_final_point ? problem.evaluate_only(x_new) : problem.evaluate(x_new);
+      return last && !options.keep_final_point ? problem.evaluate_only(at) : problem.evaluate(at);
+    };
+    const double scale = last || backend.wants_acceptance_test() || previous_step.size() != step.delta.size()
+                             ? 1.0
+                             : extrapolation_factor(step.delta, previous_step, previous_scale,
+                                                    options.max_step_extrapolation);
+    Eigen::VectorXd x_new = manifold.retract(x, scale * step.delta);
+    std::array<double, 2> f_new = evaluate_at(x_new);
+    rec.step_scale = scale;
+    if (scale > 1.0) {
+      if (finite2(f_new) && merit(f_new, sp, step) < merit(f, sp, step)) {
+        ++summary.extrapolated_steps;
+      } else {  // the plain step, evaluated again
+        ++summary.refused_extrapolations;
+        rec.step_scale = 1.0;
+        x_new = manifold.retract(x, step.delta);
+        f_new = evaluate_at(x_new);
+      }
     }
+    previous_step = step.delta;
+    previous_scale = rec.step_scale;
     if (!finite2(f_new)) {
       summary.termination = TerminationReason::kNumericalFailure;
       summary.message = "objective is NaN/Inf after the step; x kept at the last good value";

@@ -35,6 +35,18 @@ struct SolverOptions {
   // from it): the last step is evaluated with evaluate(), which keeps the problem's data at
   // that x for reuse, rather than with evaluate_only().
   bool keep_final_point = false;
+  // Extrapolated steps, for iterations that crawl (robust weights re-estimated at every
+  // linearization make Gauss-Newton converge linearly: successive steps shrink by a nearly
+  // constant ratio rho in a nearly constant direction). When a step points within cos > 0.7
+  // of the previous one and rho, corrected for the previous step's own scale, lies in
+  // (0.2, 0.95), the step is scaled by min(max_step_extrapolation, 1 / (1 - rho)): the sum
+  // of the geometric tail (Aitken's extrapolation along the step). The scaled step is kept
+  // only when its merit is below the merit before it; otherwise the plain step is evaluated
+  // and taken (one more evaluation). The merit is that of the latest weights, whose quadratic
+  // model the plain step minimizes: with residuals linear in the step a factor s changes it by
+  // -s (2 - s) times the plain decrease, so factors of 2 or more are refused there. 1 = off
+  // (the default). Step backends without an acceptance test of their own (not LM).
+  double max_step_extrapolation = 1.0;
 };
 
 enum class TerminationReason {
@@ -52,7 +64,8 @@ struct IterationRecord {
   double f1 = 0.0, f2 = 0.0;  // objectives AFTER this iteration (at the accepted x)
   double multiplier = 0.0;   // lambda (weighted sum) or mu (epsilon-constraint)
   double epsilon = 0.0;      // epsilon of this step (epsilon-constraint only)
-  double step_norm = 0.0;
+  double step_norm = 0.0;    // of the backend's step, before any extrapolation
+  double step_scale = 1.0;   // the factor the step was taken with (> 1: extrapolated)
   bool accepted = true;      // false: damped backend rejected the step, x unchanged
   bool feasible = true;      // the step backend's feasibility flag
   int inner_iterations = 0;  // the backend's own iterations for this step
@@ -68,6 +81,10 @@ struct Summary {
   std::string scalarization;  // Scalarization::describe()
 
   int iterations = 0;  // outer iterations run (accepted or not)
+  // SolverOptions::max_step_extrapolation: steps taken extrapolated, and extrapolations
+  // refused by the merit (each cost one evaluation more).
+  int extrapolated_steps = 0;
+  int refused_extrapolations = 0;
   double initial_f1 = 0.0, initial_f2 = 0.0;
   double final_f1 = 0.0, final_f2 = 0.0;
   double multiplier = 0.0;  // last lambda or mu (+inf when the last step was infeasible)
