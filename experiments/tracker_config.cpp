@@ -45,6 +45,7 @@ json tracker_options_to_json(const TrackerOptions& o) {
       {"step_tolerance", o.step_tolerance},
       {"relative_decrease_tolerance", o.relative_decrease_tolerance},
       {"pixel_motion_tolerance", o.pixel_motion_tolerance},
+      {"step_extrapolation", o.step_extrapolation},
       {"exact_finish_iterations", o.exact_finish_iterations},
       {"evaluate_unused_objective", o.evaluate_unused_objective},
       {"min_valid_pixels", o.min_valid_pixels},
@@ -97,6 +98,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
   r.number("step_tolerance", o.step_tolerance, 0.0, kInf);
   r.number("relative_decrease_tolerance", o.relative_decrease_tolerance, 0.0, kInf);
   r.number("pixel_motion_tolerance", o.pixel_motion_tolerance, 0.0, kInf);
+  r.number("step_extrapolation", o.step_extrapolation, 1.0, 100.0);
   r.integer("exact_finish_iterations", o.exact_finish_iterations, 0, 1000);
   r.boolean("evaluate_unused_objective", o.evaluate_unused_objective);
   r.integer("min_valid_pixels", o.min_valid_pixels, 1, kIntMax);

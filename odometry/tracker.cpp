@@ -120,6 +120,9 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
+  if (!(options.step_extrapolation >= 1.0 && options.step_extrapolation <= 100.0)) {
+    throw Error("step extrapolation must be in [1, 100] (1 = off), got " + std::to_string(options.step_extrapolation));
+  }
   if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
     throw Error("pixel motion tolerance must be finite and >= 0, got " + std::to_string(options.pixel_motion_tolerance));
   }
@@ -225,6 +228,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solver_options.step_tolerance = options.step_tolerance;
   solver_options.relative_decrease_tolerance =
       method == Method::kJoint ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
+  solver_options.max_step_extrapolation = options.step_extrapolation;
   solver_options.profile = &result.profile;
   solver_options.verbosity = options.verbosity;
   // noise-bounded evaluates F_I at each stage's final x after its solve.

@@ -68,6 +68,11 @@ struct TrackerOptions {
   // default: at 0.05 px it cut iterations by 40 % but raised weighted's RPE on fr1/rpy by 5 %
   // and stalled depth-heavy methods on slow fr3/office motion; docs/odometry.md "Speed").
   double pixel_motion_tolerance = 0.0;
+  // Largest factor a crawling Gauss-Newton step may be extrapolated by
+  // (solvers::SolverOptions::max_step_extrapolation; 1 = off, the default: it cuts
+  // iterations but moves the synthetic scenes' RPE by more than the 2 % issue 14 allows;
+  // docs/odometry.md "Twelfth round").
+  double step_extrapolation = 1.0;
   // With reference-side gradients (Jacobian inverse or esm: joint's default) the Gauss-Newton
   // fixed point is that of an approximate Jacobian, not the cost's stationary point; N > 0
   // continues the finest level from there with current-side (exact) gradients for at most N

@@ -32,6 +32,7 @@ TrackerOptions unusual_options() {
   o.step_tolerance = 0.1 + 0.2;
   o.relative_decrease_tolerance = 1.0 / 3.0;
   o.pixel_motion_tolerance = 0.1 + 0.7;
+  o.step_extrapolation = 1.0 + 0.9;
   o.exact_finish_iterations = 3;  // not the default
   o.evaluate_unused_objective = true;
   o.min_valid_pixels = 123;
@@ -95,6 +96,7 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.step_tolerance, o.step_tolerance);
   EXPECT_EQ(back.relative_decrease_tolerance, o.relative_decrease_tolerance);
   EXPECT_EQ(back.pixel_motion_tolerance, o.pixel_motion_tolerance);
+  EXPECT_EQ(back.step_extrapolation, o.step_extrapolation);
   EXPECT_EQ(back.exact_finish_iterations, o.exact_finish_iterations);
   EXPECT_EQ(back.evaluate_unused_objective, o.evaluate_unused_objective);
   EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);
@@ -171,6 +173,8 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
   EXPECT_NE(err(R"({"levels": 2.5})").find("cfg.json.levels: must be an integer"), std::string::npos);
   EXPECT_NE(err(R"({"levels": 0})").find("cfg.json.levels: 0 is outside [1, 12]"), std::string::npos);
   EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json.max_frames"), std::string::npos);
+  EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("cfg.json.step_extrapolation: 0.9 is outside [1, 100]"),
+            std::string::npos);
   EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json.policy.phi: -1 is outside"), std::string::npos);
   EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json.problem.weights.kind"),
             std::string::npos);

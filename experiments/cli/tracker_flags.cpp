@@ -85,6 +85,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
   add<double>("--pixel-motion-tolerance",
               "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
               d.pixel_motion_tolerance, [](TrackerOptions& o, const double& v) { o.pixel_motion_tolerance = v; });
+  add<double>("--step-extrapolation",
+              "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated by, to the "
+              "limit of its geometric tail (1: off)",
+              d.step_extrapolation, [](TrackerOptions& o, const double& v) { o.step_extrapolation = v; });
   add<int>("--exact-finish-iterations",
            "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at most N "
            "iterations (0: off)",
