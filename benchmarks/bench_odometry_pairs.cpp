@@ -100,13 +100,15 @@ void report_pairs(benchmark::State& state, const std::vector<double>& per_pair, 
 }
 
 // fixed_eps > 0: method bounded with that per-unit-weight bound instead of the pi(D) rule.
-void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps,
-                 bool wall) {
+// extrapolation: TrackerOptions::step_extrapolation (1 = off, the default).
+void rpy_pairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps, bool wall,
+               double extrapolation) {
   const Frames* f = frames_or_skip(state);
   if (!f) return;
   TrackerOptions o;
   o.method = method;
   o.finest_level = finest;
+  o.step_extrapolation = extrapolation;
   if (fixed_eps > 0.0) o.policy.eps = fixed_eps;
 #ifdef BIVO_BENCH_THREADS
   o.problem.threads = threads;
@@ -140,6 +142,11 @@ void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest,
     }
   }
   report_pairs(state, per_pair, iterations, pairs);
+}
+
+void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps,
+                 bool wall) {
+  rpy_pairs(state, method, finest, threads, fixed_eps, wall, 1.0);
 }
 
 #ifdef BIVO_BENCH_STREAM
@@ -193,6 +200,15 @@ void register_cases() {
     for (const char* m : {"single", "depth", "fixed", "tykkala", "weighted", "bounded"}) {
       benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + at).c_str(), BM_RpyPairs, std::string(m), finest,
                                    1, 0.0, false)
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
+    }
+    // Crawling steps extrapolated (the cap the twelfth round measured; off by default).
+    for (const char* m : {"single", "weighted", "bounded"}) {
+      benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + "_extrapolated" + at).c_str(),
+                                   [method = std::string(m), finest](benchmark::State& state) {
+                                     rpy_pairs(state, method, finest, 1, 0.0, false, 1.9);
+                                   })
           ->Unit(benchmark::kMillisecond)
           ->Iterations(1);
     }
