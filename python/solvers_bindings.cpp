@@ -104,7 +104,9 @@ void bind_solvers(py::module_& m) {
       .def_readwrite("step_tolerance", &SolverOptions::step_tolerance)
       .def_readwrite("relative_decrease_tolerance", &SolverOptions::relative_decrease_tolerance)
       .def_readwrite("verbosity", &SolverOptions::verbosity)
-      .def_readwrite("want_full_residuals", &SolverOptions::want_full_residuals);
+      .def_readwrite("want_full_residuals", &SolverOptions::want_full_residuals)
+      .def_readwrite("max_step_extrapolation", &SolverOptions::max_step_extrapolation,
+                     "largest factor a steadily shrinking step is extrapolated by (1 = off)");
 
   py::class_<Scalarization>(m, "Scalarization", "Base of WeightedSum and EpsilonConstraint.")
       .def_property_readonly("kind", [](const Scalarization& s) { return kind_name(s.kind()); })
@@ -158,6 +160,8 @@ void bind_solvers(py::module_& m) {
       .def_property_readonly("kind", [](const Summary& s) { return kind_name(s.kind); })
       .def_readonly("scalarization", &Summary::scalarization)
       .def_readonly("iterations", &Summary::iterations)
+      .def_readonly("extrapolated_steps", &Summary::extrapolated_steps)
+      .def_readonly("refused_extrapolations", &Summary::refused_extrapolations)
       .def_readonly("initial_f1", &Summary::initial_f1)
       .def_readonly("initial_f2", &Summary::initial_f2)
       .def_readonly("final_f1", &Summary::final_f1)
@@ -175,6 +179,7 @@ void bind_solvers(py::module_& m) {
       .def_property_readonly("multipliers", [](const Summary& s) { return column<double>(s.records, [](auto& r) { return r.multiplier; }); })
       .def_property_readonly("epsilons", [](const Summary& s) { return column<double>(s.records, [](auto& r) { return r.epsilon; }); })
       .def_property_readonly("step_norms", [](const Summary& s) { return column<double>(s.records, [](auto& r) { return r.step_norm; }); })
+      .def_property_readonly("step_scales", [](const Summary& s) { return column<double>(s.records, [](auto& r) { return r.step_scale; }); })
       .def_property_readonly("accepted", [](const Summary& s) { return column<bool>(s.records, [](auto& r) { return r.accepted; }); })
       .def_property_readonly("feasible_steps", [](const Summary& s) { return column<bool>(s.records, [](auto& r) { return r.feasible; }); })
       .def_property_readonly("inner_iterations", [](const Summary& s) { return column<int>(s.records, [](auto& r) { return r.inner_iterations; }); })

@@ -208,3 +208,32 @@ def test_missing_methods_and_bad_construction():
         bivo.Problem(2, "sphere")
     with pytest.raises(ValueError, match="dim 6"):
         bivo.Problem(3, "se3")
+
+
+class InflatedJacobian(bivo.Problem):
+    """F_1 = |x - a|^2, but a Jacobian 5 times too large: Gauss-Newton steps cover a fifth of
+    the way (rho = 0.8), so extrapolated steps must get there in fewer iterations."""
+
+    def __init__(self):
+        super().__init__(3, "euclidean", "inflated jacobian")
+
+    def residual(self, j, x):
+        return x - A if j == 1 else np.zeros(3)
+
+    def jacobian(self, j, x):
+        return np.sqrt(5.0) * np.eye(3) if j == 1 else np.zeros((3, 3))
+
+    def weights(self, j):
+        return np.ones(3)
+
+
+def test_extrapolated_steps_reach_the_same_point_in_fewer_iterations():
+    options = bivo.SolverOptions(max_iterations=200, step_tolerance=1e-10, relative_decrease_tolerance=0.0)
+    plain = bivo.solve(InflatedJacobian(), bivo.WeightedSum(0.0), "gn", np.zeros(3), options)
+    options.max_step_extrapolation = 1.9
+    fast = bivo.solve(InflatedJacobian(), bivo.WeightedSum(0.0), "gn", np.zeros(3), options)
+    assert_same(plain.x, A, 1e-8)
+    assert_same(fast.x, A, 1e-8)
+    assert plain.extrapolated_steps == 0 and fast.extrapolated_steps > 0
+    assert max(fast.step_scales) == pytest.approx(1.9)
+    assert fast.iterations < 0.6 * plain.iterations, (plain.iterations, fast.iterations)
