@@ -113,6 +113,28 @@ TEST(SynthTracking, LoadingAheadChangesNoEstimate) {
   fs::remove_all(out);
 }
 
+// --step-extrapolation reaches every level's solve: fewer iterations over the sequence, and
+// every pair still within 1 cm of the rendering's exact ground truth.
+TEST(SynthTracking, ExtrapolatedStepsTrackWithFewerIterations) {
+  const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_extrapolation_" + std::to_string(::getpid()));
+  const std::string seq = render_six_near_frames(out);
+  bivo::odometry::TrackerOptions t;
+  t.method = "weighted";
+  const bivo::odometry::TrackResult plain = bivo::odometry::track_sequence(seq, t);
+  t.step_extrapolation = 1.9;
+  const bivo::odometry::TrackResult extrapolated = bivo::odometry::track_sequence(seq, t);
+  ASSERT_EQ(extrapolated.pairs.size(), plain.pairs.size());
+  int plain_iterations = 0, extrapolated_iterations = 0;
+  for (std::size_t k = 0; k < plain.pairs.size(); ++k) {
+    plain_iterations += plain.pairs[k].iterations;
+    extrapolated_iterations += extrapolated.pairs[k].iterations;
+    ASSERT_TRUE(extrapolated.pairs[k].error);
+    EXPECT_LT(extrapolated.pairs[k].error->translation_m, 0.01) << k;
+  }
+  EXPECT_LT(extrapolated_iterations, plain_iterations);
+  fs::remove_all(out);
+}
+
 // A frame that fails to load stops the stream after the same pairs with one thread (which
 // prepares each frame right before its pair) and with two (which load and prepare it one pair
 // ahead, and must still deliver the pair before it first); the error names the file.
