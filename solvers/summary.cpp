@@ -54,8 +54,8 @@ std::string Summary::FullReport() const {
   for (const auto& r : records) {
     char line[200];
     std::snprintf(line, sizeof line, "%5d %13.6e %13.6e %13.6e %11.3e%c %5d  %3s %4s %10.3f\n", r.iteration, r.f1,
-                  r.f2, r.multiplier, r.step_norm, r.step_scale > 1.0 ? '*' : ' ', r.inner_iterations, r.accepted ? "yes" : "no",
-                  r.feasible ? "yes" : "no", r.seconds * 1e3);
+                  r.f2, r.multiplier, r.step_norm, r.step_scale > 1.0 ? '*' : ' ', r.inner_iterations,
+                  r.accepted ? "yes" : "no", r.feasible ? "yes" : "no", r.seconds * 1e3);
     s << line;
   }
   s << "\nTime (in seconds):\n";
@@ -67,7 +67,8 @@ std::string Summary::FullReport() const {
   s << fmt("  Total                   %12.6f\n", total_seconds);
   s << "\nIterations                " << iterations << "\n";
   if (extrapolated_steps + refused_extrapolations > 0) {
-    s << "Extrapolated steps        " << extrapolated_steps << " (|step| marked *; " << refused_extrapolations << " refused)\n";
+    s << "Extrapolated steps        " << extrapolated_steps << " (|step| marked *; " << refused_extrapolations
+      << " refused)\n";
   }
   s << "Feasible                  " << (feasible ? "yes" : "no") << "\n";
   s << "Termination:              " << (converged() ? "CONVERGENCE" : "NO_CONVERGENCE") << " ("
