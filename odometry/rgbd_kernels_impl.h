@@ -15,7 +15,9 @@
 namespace bivo::odometry {
 namespace BIVO_KERNEL_NS {
 
-constexpr std::size_t kBlockTerms = 256;  // Jacobian rows staged in L1 before the Gram update
+// Lane groups staged in L1 between two loops: the warp's cells, the Jacobian rows before the
+// Gram update.
+constexpr std::size_t kBlockTerms = 256;
 
 template <class V>
 struct LanePose {
@@ -38,74 +40,95 @@ inline typename V::F lerp(typename V::F s, typename V::F a, typename V::F b) {
 }
 
 // kStore false: the same sums, in the same order, without the stores and the gradients.
+// Two loops per block of kBlockTerms: the first projects the points and finds their cells
+// (indices, fractions, masks staged in L1), the second reads the cells and forms the
+// residuals. Within one loop the lane groups are independent, so the out-of-order core
+// overlaps several of them; as one loop, each group's chain (transform, division, cell
+// index, the cell's sixteen loads and their transpose) was too long to overlap two.
+// The same operations in the same order: the same bits.
 template <class V, bool kStore>
 WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers& out, std::size_t begin,
                    std::size_t end) {
   using F = typename V::F;
   using M = typename V::M;
+  using I = typename V::I;
+  constexpr int kGroups = static_cast<int>(kBlockTerms) / V::kWidth;
   const LanePose<V> T(p.pose);
-  const F zero = V::set(0.0f), one = V::set(1.0f), half = V::set(0.5f);
+  const F zero = V::set(0.0f), half = V::set(0.5f), one = V::set(1.0f);
   const F fx = V::set(p.fx), fy = V::set(p.fy), cx = V::set(p.cx), cy = V::set(p.cy);
   const F u_max = V::set(static_cast<float>(p.width - 1)), v_max = V::set(static_cast<float>(p.height - 1));
   const F min_z = V::set(p.min_z), margin = V::set(p.occlusion_margin);
   const bool want_i = p.objectives.intensity, want_d = p.objectives.depth;
   const bool current_gradients = kStore && p.gradients != GradientSource::kReference;
   const bool average = p.gradients == GradientSource::kAverage;
+  alignas(64) I stage_index[kGroups];
+  alignas(64) F stage_a[kGroups], stage_b[kGroups], stage_qz[kGroups];
+  M stage_inside[kGroups];
   WarpSums sums;
   for (std::size_t s = begin; s < end; s += kFlushTerms) {
     const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
     F f_i = zero, f_d = zero, ss_i = zero, ss_d = zero;
-    for (std::size_t k = s; k < s_end; k += V::kWidth) {
-      F qx, qy, qz;
-      T.apply(V::load(ref.x + k), V::load(ref.y + k), V::load(ref.z + k), qx, qy, qz);
-      const M front = (qz > min_z) & V::lanes_below(k, ref.count);
-      const F iz = one / qz;
-      const F u = V::fma(fx * qx, iz, cx), v = V::fma(fy * qy, iz, cy);
-      const M inside = front & (u >= zero) & (v >= zero) & (u < u_max) & (v < v_max);
-      typename V::I index;
-      F a, b;
-      V::cell_of(u, v, inside, p.width, index, a, b);
-      const Cell<F> c = V::load_cell(p.cells, index, p.width);
-      const M depth_ok = inside & (c.d00 > zero) & (c.d10 > zero) & (c.d01 > zero) & (c.d11 > zero);
-      const F d2 = lerp<V>(b, lerp<V>(a, c.d00, c.d10), lerp<V>(a, c.d01, c.d11));
-      // Occluded in frame 2: neither residual is meaningful.
-      const M occluded = depth_ok & (qz > d2 + margin);
-      const M valid_i = V::and_not(inside, occluded);
-      const M valid_d = V::and_not(depth_ok, occluded);
-      if (kStore) V::store_flags(out.flags + k, valid_i, valid_d);
-      sums.valid_i += V::count(valid_i);
-      sums.valid_d += V::count(valid_d);
-      if (want_i) {
-        const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
-        const F r = V::select(valid_i, i2 - V::load(ref.intensity + k), zero);
-        if (kStore) V::store(out.r_i + k, r);
-        ss_i = V::fma(r, r, ss_i);
-        if (p.weighted_sums) f_i = V::fma(V::load(out.w_i + k) * r, r, f_i);
-        if (current_gradients) {
-          F gu = fx * lerp<V>(b, c.i10 - c.i00, c.i11 - c.i01);
-          F gv = fy * lerp<V>(a, c.i01 - c.i00, c.i11 - c.i10);
-          if (average) {
-            gu = half * (gu + V::load(ref.gi_u + k));
-            gv = half * (gv + V::load(ref.gi_v + k));
-          }
-          V::store(out.gi_u + k, V::select(valid_i, gu, zero));
-          V::store(out.gi_v + k, V::select(valid_i, gv, zero));
-        }
+    for (std::size_t bs = s; bs < s_end; bs += kBlockTerms) {
+      const std::size_t b_end = bs + kBlockTerms < s_end ? bs + kBlockTerms : s_end;
+      const int groups = static_cast<int>((b_end - bs + V::kWidth - 1) / V::kWidth);
+      for (int g = 0; g < groups; ++g) {
+        const std::size_t k = bs + static_cast<std::size_t>(g) * V::kWidth;
+        F qx, qy, qz;
+        T.apply(V::load(ref.x + k), V::load(ref.y + k), V::load(ref.z + k), qx, qy, qz);
+        const M front = (qz > min_z) & V::lanes_below(k, ref.count);
+        const F iz = one / qz;
+        const F u = V::fma(fx * qx, iz, cx), v = V::fma(fy * qy, iz, cy);
+        const M inside = front & (u >= zero) & (v >= zero) & (u < u_max) & (v < v_max);
+        V::cell_of(u, v, inside, p.width, stage_index[g], stage_a[g], stage_b[g]);
+        stage_qz[g] = qz;
+        stage_inside[g] = inside;
       }
-      if (want_d) {
-        const F r = V::select(valid_d, d2 - qz, zero);
-        if (kStore) V::store(out.r_d + k, r);
-        ss_d = V::fma(r, r, ss_d);
-        if (p.weighted_sums) f_d = V::fma(V::load(out.w_d + k) * r, r, f_d);
-        if (current_gradients) {
-          F gu = fx * lerp<V>(b, c.d10 - c.d00, c.d11 - c.d01);
-          F gv = fy * lerp<V>(a, c.d01 - c.d00, c.d11 - c.d10);
-          if (average) {
-            gu = half * (gu + V::load(ref.gd_u + k));
-            gv = half * (gv + V::load(ref.gd_v + k));
+      for (int g = 0; g < groups; ++g) {
+        const std::size_t k = bs + static_cast<std::size_t>(g) * V::kWidth;
+        const F a = stage_a[g], b = stage_b[g], qz = stage_qz[g];
+        const M inside = stage_inside[g];
+        const Cell<F> c = V::load_cell(p.cells, reinterpret_cast<const std::int32_t*>(&stage_index[g]), p.width);
+        const M depth_ok = inside & (c.d00 > zero) & (c.d10 > zero) & (c.d01 > zero) & (c.d11 > zero);
+        const F d2 = lerp<V>(b, lerp<V>(a, c.d00, c.d10), lerp<V>(a, c.d01, c.d11));
+        // Occluded in frame 2: neither residual is meaningful.
+        const M occluded = depth_ok & (qz > d2 + margin);
+        const M valid_i = V::and_not(inside, occluded);
+        const M valid_d = V::and_not(depth_ok, occluded);
+        if (kStore) V::store_flags(out.flags + k, valid_i, valid_d);
+        sums.valid_i += V::count(valid_i);
+        sums.valid_d += V::count(valid_d);
+        if (want_i) {
+          const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
+          const F r = V::select(valid_i, i2 - V::load(ref.intensity + k), zero);
+          if (kStore) V::store(out.r_i + k, r);
+          ss_i = V::fma(r, r, ss_i);
+          if (p.weighted_sums) f_i = V::fma(V::load(out.w_i + k) * r, r, f_i);
+          if (current_gradients) {
+            F gu = fx * lerp<V>(b, c.i10 - c.i00, c.i11 - c.i01);
+            F gv = fy * lerp<V>(a, c.i01 - c.i00, c.i11 - c.i10);
+            if (average) {
+              gu = half * (gu + V::load(ref.gi_u + k));
+              gv = half * (gv + V::load(ref.gi_v + k));
+            }
+            V::store(out.gi_u + k, V::select(valid_i, gu, zero));
+            V::store(out.gi_v + k, V::select(valid_i, gv, zero));
           }
-          V::store(out.gd_u + k, V::select(valid_d, gu, zero));
-          V::store(out.gd_v + k, V::select(valid_d, gv, zero));
+        }
+        if (want_d) {
+          const F r = V::select(valid_d, d2 - qz, zero);
+          if (kStore) V::store(out.r_d + k, r);
+          ss_d = V::fma(r, r, ss_d);
+          if (p.weighted_sums) f_d = V::fma(V::load(out.w_d + k) * r, r, f_d);
+          if (current_gradients) {
+            F gu = fx * lerp<V>(b, c.d10 - c.d00, c.d11 - c.d01);
+            F gv = fy * lerp<V>(a, c.d01 - c.d00, c.d11 - c.d10);
+            if (average) {
+              gu = half * (gu + V::load(ref.gd_u + k));
+              gv = half * (gv + V::load(ref.gd_v + k));
+            }
+            V::store(out.gd_u + k, V::select(valid_d, gu, zero));
+            V::store(out.gd_v + k, V::select(valid_d, gv, zero));
+          }
         }
       }
     }

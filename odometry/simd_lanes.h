@@ -68,8 +68,9 @@ struct ScalarLanes {
     a = u - static_cast<float>(x0);
     b = v - static_cast<float>(y0);
   }
-  static Cell<F> load_cell(const float* interleaved, I index, int width) {
-    const float* top = interleaved + 2 * static_cast<std::ptrdiff_t>(index);
+  // The cells of the lanes whose indices (cell_of) are stored at k[0], k[1], ...
+  static Cell<F> load_cell(const float* interleaved, const std::int32_t* k, int width) {
+    const float* top = interleaved + 2 * static_cast<std::ptrdiff_t>(*k);
     const float* bottom = top + 2 * static_cast<std::ptrdiff_t>(width);
     return {top[0], top[2], bottom[0], bottom[2], top[1], top[3], bottom[1], bottom[3]};
   }
@@ -148,9 +149,7 @@ struct Avx2Lanes {
   }
   // Each lane's cell is two 16-byte rows [I, D, I_right, D_right]; lanes j and j + 4 share a
   // 256-bit register, and one 4x4 transpose per row turns rows into lane vectors.
-  static Cell<F> load_cell(const float* interleaved, I index, int width) {
-    alignas(32) std::int32_t k[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(k), index);
+  static Cell<F> load_cell(const float* interleaved, const std::int32_t* k, int width) {
     const std::ptrdiff_t below = 2 * static_cast<std::ptrdiff_t>(width);
     __m256 top[4], bottom[4];
     for (int j = 0; j < 4; ++j) {
@@ -285,9 +284,7 @@ struct Avx512Lanes {
   }
   // As Avx2Lanes::load_cell with four 128-bit quarters: register j holds the cell rows of
   // lanes j, j + 4, j + 8, j + 12, and the per-quarter 4x4 transpose gives lane vectors.
-  static Cell<F> load_cell(const float* interleaved, I index, int width) {
-    alignas(64) std::int32_t k[16];
-    _mm512_store_si512(reinterpret_cast<__m512i*>(k), index);
+  static Cell<F> load_cell(const float* interleaved, const std::int32_t* k, int width) {
     const std::ptrdiff_t below = 2 * static_cast<std::ptrdiff_t>(width);
     __m512 top[4], bottom[4];
     for (int j = 0; j < 4; ++j) {
