@@ -149,7 +149,7 @@ WarpSums warp(const WarpParams& p, const ReferenceArrays& ref, const TermBuffers
 template <class V>
 ScaleSums t_scale_sums(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2) {
   using F = typename V::F;
-  const F fnu = V::set(nu), fnu1 = V::set(nu + 1.0f), inv = V::set(inv_scale2), one = V::set(1.0f);
+  const F fnu = V::set(nu), fnu1 = V::set(nu + 1.0f), inv = V::set(inv_scale2);
   ScaleSums total;
   for (std::size_t s = begin; s < end; s += kFlushTerms) {
     const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
@@ -158,7 +158,7 @@ ScaleSums t_scale_sums(const float* r, std::size_t begin, std::size_t end, float
       const F x = V::load(r + k);
       const F r2 = x * x;
       const F a = r2 * inv;
-      const F t = one / (a + fnu);
+      const F t = V::sum_reciprocal(a + fnu);
       const F term = r2 * fnu1 * t;
       acc = acc + term;
       acc_slope = V::fma(term, a * t, acc_slope);

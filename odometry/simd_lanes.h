@@ -43,6 +43,8 @@ struct ScalarLanes {
   static void store(float* p, F v) { *p = v; }
   static F set(float v) { return v; }
   static F fma(F a, F b, F c) { return a * b + c; }
+  // 1 / a for a sum that tolerates float rounding (t_scale_sums): exact here.
+  static F sum_reciprocal(F a) { return 1.0f / a; }
   static F select(M m, F a, F b) { return m ? a : b; }
   static M and_not(M a, M b) { return a && !b; }  // a & ~b
   static M all_lanes() { return true; }
@@ -106,6 +108,7 @@ struct Avx2Lanes {
   static void store(float* p, F v) { _mm256_storeu_ps(p, v.v); }
   static F set(float v) { return {_mm256_set1_ps(v)}; }
   static F fma(F a, F b, F c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }
+  static F sum_reciprocal(F a) { return {_mm256_div_ps(_mm256_set1_ps(1.0f), a.v)}; }
   static F select(M m, F a, F b) { return {_mm256_blendv_ps(b.v, a.v, m.m)}; }
   static M and_not(M a, M b) { return {_mm256_andnot_ps(b.m, a.m)}; }
   static M all_lanes() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
@@ -179,8 +182,9 @@ struct Avx2Lanes {
 #if defined(__AVX512F__)
 // Sixteen float lanes in one 512-bit register, masks in k registers. On a CPU with full-width
 // AVX-512 units (AMD Zen 5) a pass does twice the lanes per instruction of Avx2Lanes; the
-// lane sums are those of sixteen lanes, so results agree with the eight-lane kernels to float
-// rounding, not bit for bit.
+// lane sums are those of sixteen lanes and the t-scale sums use an approximate reciprocal
+// (sum_reciprocal), so results agree with the eight-lane kernels to float rounding, not bit
+// for bit.
 struct Avx512F {
   __m512 v;
 };
@@ -212,6 +216,14 @@ struct Avx512Lanes {
   static void store(float* p, F v) { _mm512_storeu_ps(p, v.v); }
   static F set(float v) { return {_mm512_set1_ps(v)}; }
   static F fma(F a, F b, F c) { return {_mm512_fmadd_ps(a.v, b.v, c.v)}; }
+  // 1 / a within ~1 ulp for a sum that tolerates float rounding (t_scale_sums, whose pass
+  // the division's throughput bounded: one VDIVPS per sixteen terms and little else):
+  // VRCP14PS (relative error < 2^-14, its bits are the CPU's) and one Newton step. Not
+  // correctly rounded, so not bit-identical to the eight-lane kernels, which divide.
+  static F sum_reciprocal(F a) {
+    const __m512 x = _mm512_rcp14_ps(a.v);
+    return {_mm512_fmadd_ps(x, _mm512_fnmadd_ps(a.v, x, _mm512_set1_ps(1.0f)), x)};
+  }
   static F select(M m, F a, F b) { return {_mm512_mask_blend_ps(m.m, b.v, a.v)}; }
   static M and_not(M a, M b) { return {static_cast<__mmask16>(a.m & ~b.m)}; }
   static M all_lanes() { return {static_cast<__mmask16>(0xFFFF)}; }

@@ -139,6 +139,26 @@ TEST(RgbdKernels, ScalarAndVectorKernelsAgree) {
   }
 }
 
+// Each kernel's t-scale pass against its closed form, one residual value at a time (sixteen
+// equal terms, so no lane sum can average a per-term error away): sum (nu + 1) r^2 / (nu +
+// r^2 / s^2) and its slope. The sixteen-lane kernel's approximate reciprocal must stay
+// within float rounding here.
+TEST(RgbdKernels, ScaleSumsMatchTheClosedFormTermByTerm) {
+  const float nu = 5.0f, inv_scale2 = 1.0f / 36.0f;
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    for (double r = 0.01; r < 1e3; r *= 1.0173) {
+      const std::vector<float> terms(16, static_cast<float>(r));
+      const ScaleSums s = kernels(isa).t_scale_sums(terms.data(), 0, terms.size(), nu, inv_scale2);
+      const double r2 = double(terms[0]) * terms[0], a = r2 * inv_scale2, t = 1.0 / (a + nu);
+      const double sum = 16.0 * (nu + 1.0) * r2 * t, slope = sum * a * t;
+      EXPECT_NEAR(s.sum, sum, 3e-6 * sum) << "r = " << r;
+      EXPECT_NEAR(s.slope, slope, 3e-6 * slope) << "r = " << r;
+    }
+  }
+}
+
 TEST(RgbdKernels, Avx512VlKernelsAreBitIdenticalToAvx2) {
   if (!kernels_available(KernelIsa::kAvx2) || !kernels_available(KernelIsa::kAvx512Vl)) {
     GTEST_SKIP() << "no AVX2 or AVX-512VL kernels on this build / CPU";
