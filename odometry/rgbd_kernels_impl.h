@@ -97,38 +97,34 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         if (kStore) V::store_flags(out.flags + k, valid_i, valid_d);
         sums.valid_i += V::count(valid_i);
         sums.valid_d += V::count(valid_d);
+        // One objective's residual r (zero where invalid): stored, summed (plain and under the
+        // stored weights w), and its image gradients from the cell's corners e00..e11.
+        const auto objective = [&](M valid, F r, F e00, F e10, F e01, F e11, float* r_out, const float* w,
+                                   float* gu_out, float* gv_out, const float* ref_gu, const float* ref_gv, F& ss,
+                                   F& f) {
+          r = V::select(valid, r, zero);
+          if (kStore) V::store(r_out + k, r);
+          ss = V::fma(r, r, ss);
+          if (p.weighted_sums) f = V::fma(V::load(w + k) * r, r, f);
+          if (current_gradients) {
+            F gu = fx * lerp<V>(b, e10 - e00, e11 - e01);
+            F gv = fy * lerp<V>(a, e01 - e00, e11 - e10);
+            if (average) {
+              gu = half * (gu + V::load(ref_gu + k));
+              gv = half * (gv + V::load(ref_gv + k));
+            }
+            V::store(gu_out + k, V::select(valid, gu, zero));
+            V::store(gv_out + k, V::select(valid, gv, zero));
+          }
+        };
         if (want_i) {
           const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
-          const F r = V::select(valid_i, i2 - V::load(ref.intensity + k), zero);
-          if (kStore) V::store(out.r_i + k, r);
-          ss_i = V::fma(r, r, ss_i);
-          if (p.weighted_sums) f_i = V::fma(V::load(out.w_i + k) * r, r, f_i);
-          if (current_gradients) {
-            F gu = fx * lerp<V>(b, c.i10 - c.i00, c.i11 - c.i01);
-            F gv = fy * lerp<V>(a, c.i01 - c.i00, c.i11 - c.i10);
-            if (average) {
-              gu = half * (gu + V::load(ref.gi_u + k));
-              gv = half * (gv + V::load(ref.gi_v + k));
-            }
-            V::store(out.gi_u + k, V::select(valid_i, gu, zero));
-            V::store(out.gi_v + k, V::select(valid_i, gv, zero));
-          }
+          objective(valid_i, i2 - V::load(ref.intensity + k), c.i00, c.i10, c.i01, c.i11, out.r_i, out.w_i,
+                    out.gi_u, out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
         }
         if (want_d) {
-          const F r = V::select(valid_d, d2 - qz, zero);
-          if (kStore) V::store(out.r_d + k, r);
-          ss_d = V::fma(r, r, ss_d);
-          if (p.weighted_sums) f_d = V::fma(V::load(out.w_d + k) * r, r, f_d);
-          if (current_gradients) {
-            F gu = fx * lerp<V>(b, c.d10 - c.d00, c.d11 - c.d01);
-            F gv = fy * lerp<V>(a, c.d01 - c.d00, c.d11 - c.d10);
-            if (average) {
-              gu = half * (gu + V::load(ref.gd_u + k));
-              gv = half * (gv + V::load(ref.gd_v + k));
-            }
-            V::store(out.gd_u + k, V::select(valid_d, gu, zero));
-            V::store(out.gd_v + k, V::select(valid_d, gv, zero));
-          }
+          objective(valid_d, d2 - qz, c.d00, c.d10, c.d01, c.d11, out.r_d, out.w_d, out.gd_u, out.gd_v, ref.gd_u,
+                    ref.gd_v, ss_d, f_d);
         }
       }
     }
