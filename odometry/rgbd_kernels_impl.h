@@ -51,7 +51,6 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
                    std::size_t end) {
   using F = typename V::F;
   using M = typename V::M;
-  using I = typename V::I;
   constexpr int kGroups = static_cast<int>(kBlockTerms) / V::kWidth;
   const LanePose<V> T(p.pose);
   const F zero = V::set(0.0f), half = V::set(0.5f), one = V::set(1.0f);
@@ -61,7 +60,7 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
   const bool want_i = p.objectives.intensity, want_d = p.objectives.depth;
   const bool current_gradients = kStore && p.gradients != GradientSource::kReference;
   const bool average = p.gradients == GradientSource::kAverage;
-  alignas(64) I stage_index[kGroups];
+  alignas(64) std::int32_t stage_index[kBlockTerms];  // kWidth per lane group
   alignas(64) F stage_a[kGroups], stage_b[kGroups], stage_qz[kGroups];
   M stage_inside[kGroups];
   WarpSums sums;
@@ -79,7 +78,7 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         const F iz = one / qz;
         const F u = V::fma(fx * qx, iz, cx), v = V::fma(fy * qy, iz, cy);
         const M inside = front & (u >= zero) & (v >= zero) & (u < u_max) & (v < v_max);
-        V::cell_of(u, v, inside, p.width, stage_index[g], stage_a[g], stage_b[g]);
+        V::cell_of(u, v, inside, p.width, stage_index + g * V::kWidth, stage_a[g], stage_b[g]);
         stage_qz[g] = qz;
         stage_inside[g] = inside;
       }
@@ -87,7 +86,7 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         const std::size_t k = bs + static_cast<std::size_t>(g) * V::kWidth;
         const F a = stage_a[g], b = stage_b[g], qz = stage_qz[g];
         const M inside = stage_inside[g];
-        const Cell<F> c = V::load_cell(p.cells, reinterpret_cast<const std::int32_t*>(&stage_index[g]), p.width);
+        const Cell<F> c = V::load_cell(p.cells, stage_index + g * V::kWidth, p.width);
         const M depth_ok = inside & (c.d00 > zero) & (c.d10 > zero) & (c.d01 > zero) & (c.d11 > zero);
         const F d2 = lerp<V>(b, lerp<V>(a, c.d00, c.d10), lerp<V>(a, c.d01, c.d11));
         // Occluded in frame 2: neither residual is meaningful.

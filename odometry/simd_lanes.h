@@ -37,7 +37,6 @@ struct ScalarLanes {
   static constexpr bool kCompressesRows = false;
   using F = float;
   using M = bool;
-  using I = std::int32_t;
 
   static F load(const float* p) { return *p; }
   static void store(float* p, F v) { *p = v; }
@@ -57,16 +56,17 @@ struct ScalarLanes {
   static int count(M m) { return m ? 1 : 0; }
   static double sum(F v) { return v; }
 
-  // Pixel cell of (u, v) (valid lanes have 0 <= u < width - 1, 0 <= v < height - 1) and the
-  // fractions inside it; masked-off lanes get index 0 (a readable cell).
-  static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
+  // Pixel cell of (u, v) (valid lanes have 0 <= u < width - 1, 0 <= v < height - 1), one
+  // index per lane stored at index[0..kWidth), and the fractions inside it; masked-off lanes
+  // get index 0 (a readable cell).
+  static void cell_of(F u, F v, M valid, int width, std::int32_t* index, F& a, F& b) {
     if (!valid) {
-      index = 0;
+      *index = 0;
       a = b = 0.0f;
       return;
     }
     const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
-    index = y0 * width + x0;
+    *index = y0 * width + x0;
     a = u - static_cast<float>(x0);
     b = v - static_cast<float>(y0);
   }
@@ -102,7 +102,6 @@ struct Avx2Lanes {
   static constexpr bool kCompressesRows = false;
   using F = Avx2F;
   using M = Avx2M;
-  using I = __m256i;
 
   static F load(const float* p) { return {_mm256_loadu_ps(p)}; }
   static void store(float* p, F v) { _mm256_storeu_ps(p, v.v); }
@@ -142,11 +141,11 @@ struct Avx2Lanes {
     return s;
   }
 
-  static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
+  static void cell_of(F u, F v, M valid, int width, std::int32_t* index, F& a, F& b) {
     const __m256 x0 = _mm256_floor_ps(u.v), y0 = _mm256_floor_ps(v.v);
     const __m256i xi = _mm256_cvttps_epi32(x0), yi = _mm256_cvttps_epi32(y0);
     const __m256i k = _mm256_add_epi32(_mm256_mullo_epi32(yi, _mm256_set1_epi32(width)), xi);
-    index = _mm256_and_si256(k, _mm256_castps_si256(valid.m));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(index), _mm256_and_si256(k, _mm256_castps_si256(valid.m)));
     a = {_mm256_and_ps(_mm256_sub_ps(u.v, x0), valid.m)};
     b = {_mm256_and_ps(_mm256_sub_ps(v.v, y0), valid.m)};
   }
@@ -210,7 +209,6 @@ struct Avx512Lanes {
   static constexpr bool kCompressesRows = true;
   using F = Avx512F;
   using M = Avx512M;
-  using I = __m512i;
 
   static F load(const float* p) { return {_mm512_loadu_ps(p)}; }
   static void store(float* p, F v) { _mm512_storeu_ps(p, v.v); }
@@ -286,11 +284,12 @@ struct Avx512Lanes {
     return u;
   }
 
-  static void cell_of(F u, F v, M valid, int width, I& index, F& a, F& b) {
+  static void cell_of(F u, F v, M valid, int width, std::int32_t* index, F& a, F& b) {
     const __m512 x0 = _mm512_roundscale_ps(u.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
     const __m512 y0 = _mm512_roundscale_ps(v.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
     const __m512i xi = _mm512_cvttps_epi32(x0), yi = _mm512_cvttps_epi32(y0);
-    index = _mm512_maskz_mov_epi32(valid.m, _mm512_add_epi32(_mm512_mullo_epi32(yi, _mm512_set1_epi32(width)), xi));
+    const __m512i k = _mm512_add_epi32(_mm512_mullo_epi32(yi, _mm512_set1_epi32(width)), xi);
+    _mm512_storeu_si512(index, _mm512_maskz_mov_epi32(valid.m, k));
     a = {_mm512_maskz_sub_ps(valid.m, u.v, x0)};
     b = {_mm512_maskz_sub_ps(valid.m, v.v, y0)};
   }
