@@ -1,6 +1,8 @@
 #include "experiments/method_matrix.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -33,6 +35,30 @@ std::string sequence_label(const std::string& dir) {
   return name;
 }
 
+std::vector<std::string> sequence_labels(const std::vector<std::string>& dirs) {
+  std::vector<std::string> labels;
+  for (const auto& d : dirs) labels.push_back(sequence_label(d));
+  const auto count = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::count(v.begin(), v.end(), x);
+  };
+  std::vector<std::string> out = labels;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    if (count(labels, labels[k]) < 2) continue;
+    std::error_code ec;
+    const std::string absolute = std::filesystem::weakly_canonical(std::filesystem::absolute(dirs[k]), ec).string();
+    std::uint32_t h = 2166136261u;  // FNV-1a: stable across runs and machines, unlike std::hash
+    for (const unsigned char c : (ec ? dirs[k] : absolute)) h = (h ^ c) * 16777619u;
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "~%06x", unsigned(h & 0xFFFFFFu));
+    out[k] = labels[k] + hex;
+  }
+  const std::vector<std::string> hashed = out;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    if (count(hashed, hashed[k]) > 1) out[k] = hashed[k] + "#" + std::to_string(k + 1);
+  }
+  return out;
+}
+
 void check_matrix_options(const MatrixOptions& options) {
   if (options.sequences.empty()) throw Error("no sequences given");
   if (options.methods.empty()) throw Error("no methods given");
@@ -48,7 +74,7 @@ MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequenc
   const MethodSpec& m = options.methods.at(method);
   MatrixCell cell;
   cell.sequence_dir = options.sequences.at(sequence);
-  cell.sequence = sequence_label(cell.sequence_dir);
+  cell.sequence = sequence_labels(options.sequences).at(sequence);
   cell.spec = m;
   RunRequest req;
   req.sequence_dir = cell.sequence_dir;
@@ -91,7 +117,7 @@ MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCel
   }
   MethodMatrix out;
   out.methods = options.methods;
-  for (const auto& dir : options.sequences) out.sequences.push_back(sequence_label(dir));
+  out.sequences = sequence_labels(options.sequences);
   out.cells = std::move(cells);
   return out;
 }
