@@ -82,6 +82,13 @@ json run_unit(const Study& study, const StudyUnit& unit) {
   throw Error("study: unit '" + unit.id + "' of unknown part '" + unit.part + "'");
 }
 
+std::string unit_failure(const StudyUnit& unit, const json& result) {
+  if (unit.part == "table") return result.at("run").is_null() ? result.at("note").get<std::string>() : "";
+  if (unit.part == "sweep") return result.at("ok").get<bool>() ? "" : result.at("error").get<std::string>();
+  if (unit.part == "pareto") return result.at("error").get<std::string>();
+  return "";
+}
+
 UnitResultFile read_unit_result(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read result file '" + path + "'");
@@ -167,6 +174,7 @@ WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_unit_result(path, hash, unit, result, seconds);
     ++summary.ran;
+    if (const std::string why = unit_failure(unit, result); !why.empty()) summary.failed.push_back(unit.id + ": " + why);
     log << "work: [" << k << "/" << units.size() << "] " << unit.id << " " << std::fixed << std::setprecision(1)
         << seconds << " s" << std::defaultfloat << std::endl;
   }
