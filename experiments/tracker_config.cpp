@@ -100,6 +100,12 @@ TrackerOptions read_tracker_config(const std::string& path, const TrackerOptions
   return tracker_options_from_json(j, path, base);
 }
 
+bool tracker_config_names_method(const std::string& path) {
+  std::ifstream in(path);
+  const json j = json::parse(in, nullptr, false);
+  return j.is_object() && j.contains("method");
+}
+
 void write_tracker_config(const std::string& path, const TrackerOptions& options) {
   const std::string text = tracker_options_to_json(options).dump(2) + "\n";
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });

@@ -67,6 +67,10 @@ TrackerOptions TrackerFlags::options() const {
   }
   if (with_method_) {
     if (config_->empty() && !method_given) throw Error("give --method (or a --config file that names one)");
+    // A file without "method" would run the default method without anybody having chosen it.
+    if (!method_given && !tracker_config_names_method(*config_)) {
+      throw Error(*config_ + ": names no method; give --method or a \"method\" key");
+    }
     const odometry::Method method = odometry::parse_method(o.method);
     for (const auto& f : flags_) {
       if (f.cli->count() > 0 && !f.option->method.empty() &&
