@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/result_table.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
@@ -96,7 +97,9 @@ MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequenc
     cell.note = "no groundtruth.txt";
   } else {
     try {
-      cell.rpe = odometry::io::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
+      std::string why;
+      cell.rpe = rpe_if_long_enough(*cell.run->groundtruth, cell.run->trajectory, options.rpe_delta, why);
+      cell.note = why;
     } catch (const Error& e) {
       cell.note = std::string("no RPE: ") + e.what();
     }
@@ -157,7 +160,11 @@ ResultTable table_of(const MethodMatrix& m, const std::string& corner, F value, 
   t.precision = precision;
   for (int r = 0; r < int(m.methods.size()); ++r) {
     for (int c = 0; c < int(m.sequences.size()); ++c) {
-      if (const auto v = value(m.at(r, c))) t.set(r, c, *v);
+      if (const auto v = value(m.at(r, c))) {
+        t.set(r, c, *v);
+      } else if (is_too_short(m.at(r, c).note)) {
+        t.set_text(r, c, "too short");
+      }
     }
   }
   return t;

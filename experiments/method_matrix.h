@@ -28,6 +28,7 @@ struct MatrixOptions {
   int first_frame = 0, max_frames = -1;
   int progress = -1;
   std::string trajectory_dir;               // when set: <dir>/<sequence>__<method>.txt
+  double rpe_delta = 1.0;                   // RPE window [s]
 };
 
 struct MatrixCell {

@@ -10,6 +10,7 @@
 #include "experiments/method_matrix.h"
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
@@ -81,9 +82,11 @@ SweepRun run_sweep_unit(const SweepOptions& o, const SweepUnit& unit) {
   try {
     const RunOutcome run = run_sequence(req);
     if (!run.groundtruth) throw Error("sweep: sequence '" + dir + "' has no groundtruth.txt");
-    const auto rpe = odometry::io::relative_pose_error(*run.groundtruth, run.trajectory);
-    out.rpe_trans = rpe.trans_rmse;
-    out.max_err = rpe.trans_max;
+    std::string why;
+    const auto rpe = rpe_if_long_enough(*run.groundtruth, run.trajectory, o.rpe_delta, why);
+    if (!rpe) throw Error(why);
+    out.rpe_trans = rpe->trans_rmse;
+    out.max_err = rpe->trans_max;
     out.median_ms = run.median_ms;
     out.failures = run.failures;
     out.ok = true;

@@ -23,6 +23,7 @@ struct SweepOptions {
   std::string epsilon_backend;            // empty: bounded's default (exact)
   int first_frame = 0, max_frames = -1;
   int progress = -1;
+  double rpe_delta = 1.0;  // RPE window [s]
 };
 
 struct SweepPoint {

@@ -37,11 +37,14 @@ json parts_json(const Study& s) {
   if (s.table) {
     j["table"] = {{"sequences", s.table->sequences}, {"methods", methods_json(s.table->methods)},
                   {"first_frame", s.table->first_frame}, {"max_frames", s.table->max_frames}};
+    // Written only when not the default, so the hashes of studies planned before stay valid.
+    if (s.table->rpe_delta != 1.0) j["table"]["rpe_delta"] = s.table->rpe_delta;
   }
   if (s.sweep) {
     j["sweep"] = {{"sequences", s.sweep->sequences},           {"lambdas", s.sweep->lambdas},
                   {"epsilons", s.sweep->epsilons},             {"epsilon_backend", s.sweep->epsilon_backend},
                   {"first_frame", s.sweep->first_frame},       {"max_frames", s.sweep->max_frames}};
+    if (s.sweep->rpe_delta != 1.0) j["sweep"]["rpe_delta"] = s.sweep->rpe_delta;
   }
   if (s.pareto) {
     const auto& o = s.pareto->options;
@@ -140,6 +143,7 @@ Study study_from_json(const json& j, const std::string& where) {
     for (const auto& m : tr.strings("methods")) o.methods.push_back(parse_method_spec(m));
     o.first_frame = tr.integer("first_frame", 0);
     o.max_frames = tr.integer("max_frames", -1);
+    tr.number("rpe_delta", o.rpe_delta, 1e-3, 1e6);
     tr.reject_unknown();
     s.table = o;
   }
@@ -152,6 +156,7 @@ Study study_from_json(const json& j, const std::string& where) {
     o.epsilon_backend = sr.string("epsilon_backend");
     o.first_frame = sr.integer("first_frame", 0);
     o.max_frames = sr.integer("max_frames", -1);
+    sr.number("rpe_delta", o.rpe_delta, 1e-3, 1e6);
     sr.reject_unknown();
     s.sweep = o;
   }

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "experiments/study_results.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
@@ -84,7 +85,10 @@ json run_unit(const Study& study, const StudyUnit& unit) {
 
 std::string unit_failure(const StudyUnit& unit, const json& result) {
   if (unit.part == "table") return result.at("run").is_null() ? result.at("note").get<std::string>() : "";
-  if (unit.part == "sweep") return result.at("ok").get<bool>() ? "" : result.at("error").get<std::string>();
+  if (unit.part == "sweep") {  // a run too short for its RPE windows is a result ("too short"), not a failure
+    const std::string error = result.at("ok").get<bool>() ? "" : result.at("error").get<std::string>();
+    return is_too_short(error) ? "" : error;
+  }
   if (unit.part == "pareto") return result.at("error").get<std::string>();
   return "";
 }

@@ -16,6 +16,24 @@ bool is_method_option(const TrackerOption& o) {
   return o.key == "method" || o.key == "backend" || o.key.rfind("policy.", 0) == 0;
 }
 
+const char* type_name(OptionType type) {
+  switch (type) {
+    case OptionType::kNumber:
+    case OptionType::kOptionalNumber:
+      return "FLOAT";
+    case OptionType::kInteger:
+      return "INT";
+    case OptionType::kBoolean:
+      return "BOOL";
+    case OptionType::kIntrinsics:
+      return "\"FX FY CX CY\"";
+    case OptionType::kDistortion:
+      return "\"K1 K2 P1 P2 K3\"";
+    default:
+      return "TEXT";
+  }
+}
+
 std::string help_of(const TrackerOption& o) {
   std::string help = o.method.empty() ? o.help : "method " + o.method + ": " + o.help;
   if (o.key == "method") return help + " (required unless --config names one)";
@@ -48,7 +66,7 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method, bool with_backend) :
     const bool wanted = !is_method_option(o) || with_method || (with_backend && o.key == "backend");
     if (!wanted) continue;
     auto text = std::make_shared<std::string>();
-    CLI::Option* cli = cmd->add_option(o.flag, *text, help_of(o));
+    CLI::Option* cli = cmd->add_option(o.flag, *text, help_of(o))->type_name(type_name(o.type));
     flags_.push_back({&o, cli, text});
   }
 }
