@@ -52,6 +52,7 @@ json parts_json(const Study& s) {
     for (const auto& p : s.pareto->pairs) pairs.push_back({{"sequence", p.sequence_dir}, {"pair", p.pair}});
     j["pareto"] = {{"level", o.level},           {"points", o.points}, {"lambda_min", o.lambda_min},
                    {"lambda_max", o.lambda_max}, {"methods", o.methods}, {"pairs", pairs}};
+    if (!o.backend.empty()) j["pareto"]["backend"] = o.backend;  // absent: the default, as planned before
   }
   return j;
 }
@@ -95,6 +96,7 @@ void check_study(const Study& s) {
   if (s.sweep && (sweep || !s.sweep->sequences.empty())) sweep_units(sweep_options(s));
   if (s.pareto) {
     if (pareto && s.pareto->pairs.empty()) throw Error("study: the pareto part has no pairs");
+    check_pareto_study_options(s.pareto->options);
     for (size_t k = 0; k < s.pareto->pairs.size(); ++k) {
       ParetoStudyOptions o = pareto_options(s, int(k));
       o.tracker.method = "single";
@@ -168,6 +170,7 @@ Study study_from_json(const json& j, const std::string& where) {
     p.options.lambda_min = pr.number("lambda_min");
     p.options.lambda_max = pr.number("lambda_max");
     p.options.methods = pr.strings("methods");
+    pr.string("backend", p.options.backend);
     int k = 0;
     for (const json& e : pr.array("pairs")) {
       Reader er(e, pr.path("pairs") + "[" + std::to_string(k++) + "]");
@@ -288,12 +291,22 @@ std::vector<StudyUnit> study_units(const Study& s) {
 }
 
 ShardSpec parse_shard(const std::string& text) {
-  ShardSpec s;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%d/%d%c", &s.index, &s.count, &tail) != 2 || s.count < 1 || s.index < 0 ||
-      s.index >= s.count) {
-    throw Error("--shard '" + text + "': expected I/N with 0 <= I < N (e.g. 0/4)");
+  // Digits only and bounded: sscanf's %d wrapped 99999999999 to another number.
+  constexpr long long kMaxShards = 1000000;
+  const auto slash = text.find('/');
+  const auto number = [&](const std::string& digits) -> long long {
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+    return std::stoll(digits);
+  };
+  const long long index = slash == std::string::npos ? -1 : number(text.substr(0, slash));
+  const long long count = slash == std::string::npos ? -1 : number(text.substr(slash + 1));
+  if (index < 0 || count < 1 || count > kMaxShards || index >= count) {
+    throw Error("--shard '" + text + "': expected I/N with 0 <= I < N <= " + std::to_string(kMaxShards) +
+                " (e.g. 0/4)");
   }
+  ShardSpec s;
+  s.index = int(index);
+  s.count = int(count);
   return s;
 }
 

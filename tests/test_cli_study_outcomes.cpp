@@ -147,3 +147,42 @@ TEST_F(StudyOutcomes, ATenFrameReportCompletesWithTooShortCells) {
   const json results = json::parse(slurp(dir_ / "r2" / "tables" / "results.json"));
   for (const auto& cell : results) EXPECT_GT(cell.value("rpe_windows", 0), 1) << cell.dump();
 }
+
+// --backend lm solves the lambda sweep by another algorithm: the same weighted-sum minima (the
+// default gn run is the oracle) reached by different iterates, so not bit-identical.
+TEST_F(StudyOutcomes, ParetoBackendAndBoundedCounts) {
+  const std::string args = "pareto " + q(sequences_[0]) + " --pair 0 --points 5 --levels 2 --level 1 --no-plots";
+  ASSERT_EQ(bivo(args + " --output " + q(dir_ / "gn")).status, 0);
+  const BivoRun lm = bivo(args + " --backend lm --output " + q(dir_ / "lm"));
+  ASSERT_EQ(lm.status, 0) << lm.err;
+  EXPECT_TRUE(contains(slurp(dir_ / "lm" / "study.json"), "\"backend\": \"lm\""));
+  const json a = json::parse(slurp(dir_ / "gn" / "pareto_pair0.json")).at("lambda_sweep");
+  const json b = json::parse(slurp(dir_ / "lm" / "pareto_pair0.json")).at("lambda_sweep");
+  bool identical = true;
+  int matched = 0;  // the fronts keep their non-dominated points: compare those of equal lambda
+  for (const auto& pa : a) {
+    for (const auto& pb : b) {
+      if (pa["lambda"] != pb["lambda"]) continue;
+      const double lambda = pa["lambda"];
+      const double fa = pa["f_i"].get<double>() + lambda * pa["f_d"].get<double>();
+      const double fb = pb["f_i"].get<double>() + lambda * pb["f_d"].get<double>();
+      EXPECT_NEAR(fb / fa, 1.0, 1e-5) << lambda;
+      identical = identical && pa["f_i"] == pb["f_i"];
+      ++matched;
+    }
+  }
+  EXPECT_GE(matched, 2);
+  EXPECT_FALSE(identical) << "the lambda sweep did not use --backend lm";
+
+  const BivoRun bad = bivo(args + " --backend nope --output " + q(dir_ / "bad"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_TRUE(contains(bad.err, "unknown solver backend 'nope'")) << bad.err;
+  EXPECT_EQ(bivo(args + " --points 100000 --output " + q(dir_ / "many")).status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "many"));
+  const BivoRun plan = bivo("plan pareto " + q(sequences_[0]) + " --pair 0 --points 3 --output " + q(dir_ / "p") +
+                            " --study " + q(dir_ / "p.json"));
+  ASSERT_EQ(plan.status, 0) << plan.err;
+  const BivoRun shard = bivo("work " + q(dir_ / "p.json") + " --shard 0/99999999999");
+  EXPECT_EQ(shard.status, 1);
+  EXPECT_TRUE(contains(shard.err, "--shard '0/99999999999'")) << shard.err;
+}

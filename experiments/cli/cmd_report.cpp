@@ -41,7 +41,9 @@ StudyFactory add_report_flags(CLI::App* cmd) {
   cmd->add_option("--eps-max", a->eps_max, "largest epsilon")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--pareto-level", a->o.pareto_level, "pyramid level of the Pareto fronts")->capture_default_str();
-  cmd->add_option("--pareto-points", a->o.pareto_points, "points per Pareto sweep")->capture_default_str();
+  cmd->add_option("--pareto-points", a->o.pareto_points, "points per Pareto sweep")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
   return [a] {
