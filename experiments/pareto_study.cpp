@@ -13,7 +13,7 @@
 #include "odometry/io/tum_dataset.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::experiments {
 namespace {
