@@ -54,6 +54,14 @@ void check_keys(const json& j, const std::string& prefix, const std::string& whe
   }
 }
 
+// A configuration is a few levels deep; a document nested thousands deep is refused while it
+// is read, before anything recurses through it.
+bool limit_depth(int depth, json::parse_event_t, json&) {
+  constexpr int kMaxDepth = 16;
+  if (depth > kMaxDepth) throw Error("nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  return true;
+}
+
 }  // namespace
 
 json tracker_options_to_json(const TrackerOptions& o) {
@@ -93,16 +101,23 @@ TrackerOptions read_tracker_config(const std::string& path, const TrackerOptions
   if (!in) throw Error("cannot open tracker configuration '" + path + "'");
   json j;
   try {
-    j = json::parse(in);
+    j = json::parse(in, limit_depth);
   } catch (const json::exception& e) {
     throw Error(path + ": not valid JSON (" + e.what() + ")");
+  } catch (const Error& e) {
+    throw Error(path + ": " + e.what());
   }
   return tracker_options_from_json(j, path, base);
 }
 
 bool tracker_config_names_method(const std::string& path) {
   std::ifstream in(path);
-  const json j = json::parse(in, nullptr, false);
+  json j;
+  try {
+    j = json::parse(in, limit_depth, false);
+  } catch (const Error&) {
+    return false;
+  }
   return j.is_object() && j.contains("method");
 }
 

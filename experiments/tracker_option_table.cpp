@@ -223,12 +223,16 @@ std::vector<TrackerOption> build_table() {
 #undef BIVO_FIELD
 #undef BIVO_NAMED
 
+// A value as shown in a message: arrays and objects by their type only (dumping one nested
+// 200,000 deep would recurse through the stack, and a message needs no more).
+std::string shown(const json& v) { return v.is_structured() ? std::string("an ") + v.type_name() : v.dump(); }
+
 // The fields of an intrinsics / distortion object: all required, each a finite number.
 void check_fields(const TrackerOption& option, const json& value, const std::vector<std::string>& names,
                   const std::vector<double>& lows) {
   if (value.is_null()) return;
   if (!value.is_object()) {
-    throw Error(option.key + ": must be null or an object with keys " + join(names) + ", got " + value.dump());
+    throw Error(option.key + ": must be null or an object with keys " + join(names) + ", got " + shown(value));
   }
   for (auto it = value.begin(); it != value.end(); ++it) {
     bool known = false;
@@ -239,7 +243,7 @@ void check_fields(const TrackerOption& option, const json& value, const std::vec
     const std::string path = option.key + "." + names[k];
     const auto it = value.find(names[k]);
     if (it == value.end()) throw Error(path + ": missing (give all of " + join(names) + ")");
-    if (!it->is_number()) throw Error(path + ": must be a number, got " + it->dump());
+    if (!it->is_number()) throw Error(path + ": must be a number, got " + shown(*it));
     const double d = it->get<double>();
     if (!std::isfinite(d) || !(d > lows[k])) {
       throw Error(path + ": " + format_option_number(d) + " is outside " +
@@ -315,7 +319,7 @@ void apply_tracker_option(const TrackerOption& option, const json& value, Tracke
       if (value.is_null()) break;
       [[fallthrough]];
     case OptionType::kNumber: {
-      if (!value.is_number()) throw Error(key + ": must be a number, got " + value.dump());
+      if (!value.is_number()) throw Error(key + ": must be a number, got " + shown(value));
       const double d = value.get<double>();
       const bool below = option.lo_open ? !(d > option.lo) : !(d >= option.lo);
       if (!std::isfinite(d) || below || d > option.hi) {
@@ -324,20 +328,20 @@ void apply_tracker_option(const TrackerOption& option, const json& value, Tracke
       break;
     }
     case OptionType::kInteger: {
-      if (!value.is_number_integer()) throw Error(key + ": must be an integer, got " + value.dump());
+      if (!value.is_number_integer()) throw Error(key + ": must be an integer, got " + shown(value));
       const bool huge = value.is_number_unsigned() && value.get<std::uint64_t>() > std::uint64_t{INT64_MAX};
       const auto i = huge ? INT64_MAX : value.get<std::int64_t>();
       if (huge || static_cast<double>(i) < option.lo || static_cast<double>(i) > option.hi) {
-        throw Error(key + ": " + value.dump() + " is outside " + option.range_text());
+        throw Error(key + ": " + shown(value) + " is outside " + option.range_text());
       }
       break;
     }
     case OptionType::kBoolean:
-      if (!value.is_boolean()) throw Error(key + ": must be true or false, got " + value.dump());
+      if (!value.is_boolean()) throw Error(key + ": must be true or false, got " + shown(value));
       break;
     case OptionType::kString:
     case OptionType::kName:
-      if (!value.is_string()) throw Error(key + ": must be a string, got " + value.dump());
+      if (!value.is_string()) throw Error(key + ": must be a string, got " + shown(value));
       break;
     case OptionType::kIntrinsics:
       check_fields(option, value, {"fx", "fy", "cx", "cy"}, {0.0, 0.0, -kInf, -kInf});

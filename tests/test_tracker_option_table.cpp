@@ -217,3 +217,19 @@ TEST_F(TrackerOptionSources, TheConfigurationOfAnAcceptedRunReplaysByteIdentical
     fs::remove(a), fs::remove(b), fs::remove(config), fs::remove(dir_ / "b.config.json");
   }
 }
+
+// A config nested 200,000 deep crashed `run` (the message dumped the value recursively): it is
+// refused while it is read, and a structured value where a number belongs is named by type.
+TEST_F(TrackerOptionSources, ADeepConfigIsRefusedNotACrash) {
+  std::ofstream(dir_ / "deep.json") << "{\"method\": \"single\", \"policy\": {\"eps\": " << std::string(200000, '[')
+                                    << std::string(200000, ']') << "}}";
+  const BivoRun deep = bivo("run " + q(sequence_) + " --config " + q(dir_ / "deep.json") + " --output " +
+                            q(dir_ / "out.txt"));
+  EXPECT_EQ(deep.status, 1) << deep.err;
+  EXPECT_TRUE(contains(deep.err, "deep.json: nested deeper than 16 levels")) << deep.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.txt"));
+  EXPECT_NE(bivo::testing::error_of([] {
+              experiments::tracker_options_from_json(json::parse(R"({"policy": {"eps": [[1]]}})"), "c");
+            }).find("c: policy.eps: must be a number, got an array"),
+            std::string::npos);
+}
