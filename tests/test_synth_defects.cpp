@@ -3,19 +3,26 @@
 // along +z (depth bias, quantization, gain, vignetting, unsynchronized depth), a step edge
 // (misregistration shift f b / Z), a textured plane under a known translation (motion blur =
 // the average of shifted images; rolling shutter = each row at its own pose).
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "odometry/io/tum_dataset.h"
 #include "odometry/synth/defects.h"
 #include "odometry/synth/exposure.h"
 #include "odometry/synth/motion.h"
 #include "odometry/synth/render.h"
 #include "odometry/synth/scene.h"
+#include "odometry/synth/sequence.h"
 #include "odometry/synth/stress_set.h"
 #include "odometry/synth/texture.h"
+#include "solvers/error.h"
 
 namespace synth = bivo::odometry::synth;
 
@@ -337,4 +344,34 @@ TEST(SynthDefects, DeepScenesPutMuchOfTheImageBeyondThreeMetres) {
       EXPECT_LT(beyond, 0.70) << s.name;
     }
   }
+}
+
+TEST(SynthDefects, UnsynchronizedSequenceListsDepthAtItsOwnTimestamps) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("bivo_test_synth_defects_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  synth::SynthOptions o;
+  o.category = synth::parse_category("structure_notexture_near");
+  o.frames = 3;
+  o.threads = 1;
+  o.render.defects.depth_delay_min_s = 0.004;
+  o.render.defects.depth_delay_max_s = 0.012;
+  const std::string dir = synth::render_sequence(o, out.string());
+  // The reader associates every colour image with its own depth image, delay_k apart.
+  const auto seq = bivo::odometry::io::open_tum_sequence(dir);
+  ASSERT_EQ(seq.frames.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(seq.frames[k].depth_time - seq.frames[k].rgb_time, synth::depth_delay(o.render.defects, o.seed, k),
+                1.01e-6);
+  }
+  // A delay of half a frame or more would pair the wrong images: refused before any work.
+  o.render.defects.depth_delay_max_s = 0.02;
+  EXPECT_THROW(synth::render_sequence(o, out.string() + "/late"), bivo::Error);
+  EXPECT_FALSE(fs::exists(out / "late"));
+  // The stress set fixes its parameters: a rendering flag is refused.
+  const std::string cmd = std::string(BIVO_BINARY) + " synth --stress-set --trajectories " + out.string() +
+                          " --seed 3 --output " + (out / "s").string() + " 2>/dev/null >/dev/null";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  EXPECT_FALSE(fs::exists(out / "s" / "stress_set.json"));
+  fs::remove_all(out);
 }
