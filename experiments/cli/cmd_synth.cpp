@@ -33,7 +33,8 @@ const char* const kPerSequenceOptions[] = {"--distance", "--trajectory", "--fram
                                            "--start", "--fps", "--supersampling", "--depth-noise",
                                            "--disparity-step", "--max-range", "--read-noise", "--shot-noise",
                                            "--exposure-jitter", "--speed", "--angular-speed", "--no-noise",
-                                           "--depth-bias-radial", "--depth-bias-lowfreq", "--depth-offset",
+                                           "--depth-bias-radial", "--depth-bias-lowfreq", "--depth-bias-wavelength",
+                                           "--depth-offset",
                                            "--depth-rotation", "--depth-delay", "--readout", "--exposure",
                                            "--blur-samples", "--gain-step", "--vignetting", "--time-scale",
                                            "--wall-behind", "--view-distance", "--view-pitch",
@@ -170,6 +171,8 @@ void add_synth_command(CLI::App& app) {
   auto& d = o.render.defects;
   cmd->add_option("--depth-bias-radial", d.bias_radial, "depth bias at the image corner, relative at 1 m (0 = off)");
   cmd->add_option("--depth-bias-lowfreq", d.bias_lowfreq, "RMS of a smooth random depth bias, relative at 1 m");
+  cmd->add_option("--depth-bias-wavelength", d.bias_wavelength_px, "shortest wavelength of the smooth bias [px]")
+      ->capture_default_str();
   cmd->add_option("--depth-offset", args->depth_offset, "depth camera offset from the colour camera: x y z [m]")
       ->expected(3);
   cmd->add_option("--depth-rotation", args->depth_rotation, "depth camera rotation vector: x y z [rad]")
