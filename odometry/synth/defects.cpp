@@ -6,7 +6,7 @@
 
 #include "odometry/synth/random.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry::synth {
 
