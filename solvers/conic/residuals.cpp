@@ -49,6 +49,7 @@ void compute_residuals(const ConicProblem& sp, const ConstraintMatrix& G, const 
   } else {
     r.relative_gap = std::numeric_limits<double>::infinity();
   }
+  r.objective_gap = std::abs(cx + by + hz) / tau / (1.0 + std::abs(r.primal_objective));
   r.hz_by = hz + by;
   r.primal_infeasibility = r.hz_by < 0.0 ? atyz_o.norm() / -r.hz_by : std::numeric_limits<double>::infinity();
   r.cx = cx;
