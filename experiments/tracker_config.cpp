@@ -61,6 +61,7 @@ json tracker_options_to_json(const TrackerOptions& o) {
        {{"min_depth", o.problem.min_depth},
         {"max_depth", o.problem.max_depth},
         {"occlusion_margin", o.problem.occlusion_margin},
+        {"min_valid_fraction", o.problem.min_valid_fraction},
         {"depth_first", o.problem.depth_first},
         {"joint_weights", o.problem.joint_weights},
         {"model_f2", o.problem.model_f2},
@@ -137,6 +138,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
     pr.number("min_depth", o.problem.min_depth, 0.0, kInf);
     pr.number("max_depth", o.problem.max_depth, 0.0, kInf);
     pr.number("occlusion_margin", o.problem.occlusion_margin, 0.0, kInf);
+    pr.number("min_valid_fraction", o.problem.min_valid_fraction, 0.0, 1.0);
     pr.boolean("depth_first", o.problem.depth_first);
     pr.boolean("joint_weights", o.problem.joint_weights);
     pr.boolean("model_f2", o.problem.model_f2);

@@ -122,6 +122,10 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
               [](TrackerOptions& o, const double& v) { o.problem.max_depth = v; });
   add<double>("--occlusion-margin", "a warped point this far behind the current depth is occluded [m]",
               d.problem.occlusion_margin, [](TrackerOptions& o, const double& v) { o.problem.occlusion_margin = v; });
+  add<double>("--min-valid-fraction",
+              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "
+              "(degenerate pose: skipped)",
+              d.problem.min_valid_fraction, [](TrackerOptions& o, const double& v) { o.problem.min_valid_fraction = v; });
   add<double>("--max-dt", "rgb/depth association tolerance [s]", d.max_association_dt,
               [](TrackerOptions& o, const double& v) { o.max_association_dt = v; });
   add<std::string>("--intrinsics", "\"fx fy cx cy\" instead of the preset chosen by the sequence name", "",

@@ -28,6 +28,34 @@ IpmStatus verdict(const ExitMeasures& m, const Tolerances& t) {
   return IpmStatus::kMaxIterations;
 }
 
+double blockwise_residual(const ConeSpec* cones, int rows, const double* gxs, const double* s, const double* h,
+                          const double* scale, double tau) {
+  double worst = 0.0;
+  auto row = [&](int i, double& r2, double& h2, double& s2) {
+    const double f = 1.0 / ((scale ? scale[i] : 1.0) * tau);
+    const double r = gxs[i] * f - h[i];
+    const double si = s ? s[i] * f : 0.0;
+    r2 += r * r;
+    h2 += h[i] * h[i];
+    s2 += si * si;
+  };
+  auto block = [&](int begin, int end) {
+    double r2 = 0.0, h2 = 0.0, s2 = 0.0;
+    for (int i = begin; i < end; ++i) row(i, r2, h2, s2);
+    worst = std::max(worst, std::sqrt(r2) / (1.0 + std::sqrt(h2) + std::sqrt(s2)));
+  };
+  const int l = cones ? cones->nonnegative : rows;
+  for (int i = 0; i < l; ++i) block(i, i + 1);
+  if (cones) {
+    int offset = l;
+    for (const int d : cones->soc) {
+      block(offset, offset + d);
+      offset += d;
+    }
+  }
+  return std::isnan(worst) ? std::numeric_limits<double>::infinity() : worst;
+}
+
 namespace {
 
 double cone_violation(const ConeProduct& K, const Eigen::VectorXd& u) {
@@ -65,6 +93,11 @@ ExitMeasures measure_point(const ConicProblem& p, const Eigen::VectorXd& x, cons
   }
   const double nb = std::max(1.0, p.b.norm()), nh = std::max(1.0, p.h.norm()), nc = std::max(1.0, p.c.norm());
   m.primal_residual = std::max(np > 0 ? (ax - p.b).norm() / nb : 0.0, nm > 0 ? (gx + s - p.h).norm() / nh : 0.0);
+  if (np > 0) m.primal_residual = std::max(m.primal_residual, blockwise_residual(nullptr, np, ax.data(), nullptr, p.b.data(), nullptr, 1.0));
+  if (nm > 0) {
+    const Eigen::VectorXd gxs = gx + s;
+    m.primal_residual = std::max(m.primal_residual, blockwise_residual(&p.cones, nm, gxs.data(), s.data(), p.h.data(), nullptr, 1.0));
+  }
   m.dual_residual = (aty + gtz + p.c).norm() / nc;
   const double cx = p.c.dot(x), by = np > 0 ? p.b.dot(y) : 0.0, hz = nm > 0 ? p.h.dot(z) : 0.0;
   m.primal_objective = cx;

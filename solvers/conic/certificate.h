@@ -29,7 +29,10 @@ Tolerances reduced_tolerances(const IpmSettings& settings);  // the *_inaccurate
 
 // What a status is judged on, in the original units. Residual norms are relative as in ECOS:
 // primal max(||A x - b|| / max(1, ||b||), ||G x + s - h|| / max(1, ||h||)), dual
-// ||A^T y + G^T z + c|| / max(1, ||c||).
+// ||A^T y + G^T z + c|| / max(1, ||c||); and the primal residual is also taken block by block,
+// max over equality rows of |A_i x - b_i| / (1 + |b_i|) and over cones k (each orthant row
+// one) of ||(G x + s - h)_k|| / (1 + ||h_k|| + ||s_k||), since a bound of 1e18 in one row
+// would otherwise let ||h|| excuse a violation of O(1) in another.
 struct ExitMeasures {
   double primal_objective = 0.0, dual_objective = 0.0;  // c^T x and -(b^T y + h^T z)
   double gap = 0.0, relative_gap = 0.0;                 // s^T z and s^T z / |objective|
@@ -42,6 +45,12 @@ struct ExitMeasures {
   double cx = 0.0;                    // c^T x           (< 0 for a dual infeasibility certificate)
   double dual_infeasibility = 0.0;    // max(||A x||, ||G x + s||) / -c^T x
 };
+
+// The block-by-block part of the primal residual above, from the products as the caller has
+// them: row i of G x + s (or A x) is gxs[i] / (scale[i] tau), of s s[i] / (scale[i] tau)
+// (scale = nullptr: 1; s = nullptr for equality rows, each row a block of its own).
+double blockwise_residual(const ConeSpec* cones, int rows, const double* gxs, const double* s, const double* h,
+                          const double* scale, double tau);
 
 // The status the measures support at the tolerances; kMaxIterations = none.
 IpmStatus verdict(const ExitMeasures& m, const Tolerances& t);

@@ -21,7 +21,7 @@ struct Residuals : ExitMeasures {
   // are interior by construction); infeasibility measures on the unnormalized iterate.
 
   // Work space, kept between calls so an iteration allocates nothing.
-  Eigen::VectorXd atyz, ax, gx;
+  Eigen::VectorXd atyz, ax, gx, gxs;
 };
 
 // `scaled` is the problem the IPM iterates on (G its constraint matrix), `original` the
