@@ -315,7 +315,9 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.iterations = summary.iterations;
     lr.termination = solvers::to_string(summary.termination);
     result.iterations += summary.iterations;
-    const bool degenerate = summary.termination == solvers::TerminationReason::kDegeneratePoint;
+    // A degenerate end, or a whole-problem backend that says it failed: no estimate here.
+    const bool degenerate = summary.termination == solvers::TerminationReason::kDegeneratePoint ||
+                            summary.termination == solvers::TerminationReason::kBackendFailure;
     if (!x.allFinite() || degenerate || stats.valid_intensity < options.min_valid_pixels) {
       x = x_before;  // the level's data could not support an estimate: keep the coarser one
       lr.skipped = true;
