@@ -12,7 +12,7 @@
 #include "odometry/io/pose_error.h"
 #include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::experiments {
 namespace {

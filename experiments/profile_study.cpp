@@ -10,7 +10,7 @@
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
 #include "odometry/io/atomic_file.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {

@@ -16,7 +16,7 @@
 #include "odometry/synth/sequence.h"
 #include "odometry/tracker.h"
 #include "python/bindings.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::python {
 namespace {

@@ -20,8 +20,8 @@
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/ipm_solver.h"
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/synthetic_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers::conic;
 

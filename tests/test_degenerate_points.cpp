@@ -17,7 +17,7 @@
 #include "odometry/tracker.h"
 #include "solvers/backend_registry.h"
 #include "solvers/outer_loop.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "experiments/study.h"
-#include "experiments/study_launch.h"
-#include "experiments/study_results.h"
-#include "experiments/study_work.h"
+#include "experiments/study/study.h"
+#include "experiments/study/study_launch.h"
+#include "experiments/study/study_results.h"
+#include "experiments/study/study_work.h"
 #include "solvers/error.h"
 #include "test_support.h"
 

@@ -1,12 +1,12 @@
 // `bivo merge STUDY [RESULTS_DIR] [--output DIR] [--partial]`: checks that every unit of the
 // study has exactly one result file, then writes the tables, JSON/CSV and plots of the
-// single-process command (experiments/study_merge.h).
+// single-process command (experiments/study/study_merge.h).
 #include <iostream>
 #include <memory>
 
 #include "experiments/cli/commands.h"
-#include "experiments/study_merge.h"
-#include "experiments/study_work.h"
+#include "experiments/study/study_merge.h"
+#include "experiments/study/study_work.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {

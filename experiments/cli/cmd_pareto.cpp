@@ -1,14 +1,14 @@
 // `bivo pareto SEQUENCE_DIR (--pair K | --every K) --output DIR`: Pareto fronts (F_I, F_D) of
 // frame pairs by lambda and epsilon sweeps, with the methods' picks, the knee and pose errors
 // (experiments/pareto_study.h); JSON per pair plus a PNG per pair and a Markdown summary.
-// One work unit per pair (experiments/study.h).
+// One work unit per pair (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/pareto_study.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 

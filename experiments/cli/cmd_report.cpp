@@ -1,13 +1,13 @@
 // `bivo report --sequences DIR... --output DIR`: one Markdown report with tables and plots
 // (experiments/report_builder.h). Its work units are those of its table, its sweep and
-// one Pareto pair per sequence (experiments/study.h).
+// one Pareto pair per sequence (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/report_builder.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 

@@ -1,13 +1,13 @@
 // `bivo sweep --sequences DIR... --output DIR`: error vs lambda (log grid, method fixed) and
 // vs epsilon (log grid, method bounded) relative to the single-objective run (paper fig. 3).
-// One work unit per sequence x {reference, grid point} (experiments/study.h).
+// One work unit per sequence x {reference, grid point} (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/parameter_sweep.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 

@@ -1,14 +1,14 @@
 // `bivo table --sequences DIR... [--methods M...] --output DIR`: methods x sequences ->
 // the paper's tables 1/2 (translational RPE m/s, best per column in bold) and table 3 (ms
 // per pair), as Markdown + CSV + JSON (experiments/method_matrix.h). One work unit per
-// method x sequence (experiments/study.h).
+// method x sequence (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/method_matrix.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 

@@ -1,11 +1,11 @@
 // `bivo work STUDY [--shard I/N] [--results DIR]`: runs the I-th of N disjoint slices of a
-// study's work units, one result file per unit (experiments/study_work.h); finished units
+// study's work units, one result file per unit (experiments/study/study_work.h); finished units
 // are skipped, so re-running a killed shard resumes it.
 #include <iostream>
 #include <memory>
 
 #include "experiments/cli/commands.h"
-#include "experiments/study_work.h"
+#include "experiments/study/study_work.h"
 
 namespace bivo::experiments::cli {
 

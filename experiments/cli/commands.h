@@ -6,8 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "experiments/study.h"
-#include "experiments/study_merge.h"
+#include "experiments/study/study.h"
+#include "experiments/study/study_merge.h"
 
 namespace bivo::experiments::cli {
 

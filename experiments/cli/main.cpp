@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "experiments/cbf_file.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "experiments/cli/commands.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"

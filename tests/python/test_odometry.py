@@ -39,7 +39,7 @@ def test_every_backend_solves_a_pair_problem(synthetic_sequence):
     problem = pair.problem(3)
     f2 = [bivo.solve(problem, bivo.WeightedSum(lam), "gn", IDENTITY).final_f2 for lam in (1e8, 0.0)]
     for b in bivo.backends():
-        # epsilon near F_D at argmin F_I: reachable also by ipopt-nlp, whose re-weighting rounds
+        # epsilon near F_D at argmin F_I: reachable also by ipopt-nlp, whose re-weighting passes
         # change the scale of F_D (closer to min F_D it reports the bound infeasible).
         eps = f2[0] + 0.8 * (f2[1] - f2[0])
         scal = bivo.WeightedSum(pair.lam()) if b["weighted_sum"] else bivo.EpsilonConstraint(eps)
