@@ -31,18 +31,18 @@ IpmStatus verdict(const ExitMeasures& m, const Tolerances& t) {
 double blockwise_residual(const ConeSpec* cones, int rows, const double* gxs, const double* s, const double* h,
                           const double* scale, double tau) {
   double worst = 0.0;
-  auto row = [&](int i, double& r2, double& h2, double& s2) {
-    const double f = 1.0 / ((scale ? scale[i] : 1.0) * tau);
-    const double r = gxs[i] * f - h[i];
-    const double si = s ? s[i] * f : 0.0;
-    r2 += r * r;
-    h2 += h[i] * h[i];
-    s2 += si * si;
-  };
+  // One factor per block: the equilibration keeps a single row scale per second-order cone,
+  // so the paper's cones of 1e5 rows cost no division per row.
   auto block = [&](int begin, int end) {
+    const double f = 1.0 / ((scale ? scale[begin] : 1.0) * tau);
     double r2 = 0.0, h2 = 0.0, s2 = 0.0;
-    for (int i = begin; i < end; ++i) row(i, r2, h2, s2);
-    worst = std::max(worst, std::sqrt(r2) / (1.0 + std::sqrt(h2) + std::sqrt(s2)));
+    for (int i = begin; i < end; ++i) {
+      const double r = gxs[i] * f - h[i];
+      r2 += r * r;
+      h2 += h[i] * h[i];
+      if (s) s2 += s[i] * s[i];
+    }
+    worst = std::max(worst, std::sqrt(r2) / (1.0 + std::sqrt(h2) + f * std::sqrt(s2)));
   };
   const int l = cones ? cones->nonnegative : rows;
   for (int i = 0; i < l; ++i) block(i, i + 1);

@@ -48,7 +48,8 @@ struct ExitMeasures {
 
 // The block-by-block part of the primal residual above, from the products as the caller has
 // them: row i of G x + s (or A x) is gxs[i] / (scale[i] tau), of s s[i] / (scale[i] tau)
-// (scale = nullptr: 1; s = nullptr for equality rows, each row a block of its own).
+// (scale = nullptr: 1, else constant within each second-order cone, as Equilibration::row_cone;
+// s = nullptr for equality rows, each row a block of its own).
 double blockwise_residual(const ConeSpec* cones, int rows, const double* gxs, const double* s, const double* h,
                           const double* scale, double tau);
 
