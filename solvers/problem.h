@@ -76,9 +76,9 @@ class BiObjectiveProblem {
 
   // Why x is a point whose objectives cannot be trusted, or nothing when they can. A problem
   // whose terms drop out as x moves (an image warp that leaves the image) can drive F_1 and
-  // F_2 to 0 by measuring nothing; it says so here. Every backend checks its final x (and the
-  // whole-problem ones each trial point) and reports TerminationReason::kDegeneratePoint
-  // instead of convergence there. Default: every point is valid.
+  // F_2 to 0 by measuring nothing; it says so here. Every backend's final x is checked
+  // (TerminationReason::kDegeneratePoint instead of convergence there, x reset to the start),
+  // and Ceres refuses degenerate trial points. Default: every point is valid.
   virtual std::optional<std::string> degenerate(const Eigen::VectorXd& x) {
     (void)x;
     return std::nullopt;

@@ -112,9 +112,6 @@ class EpsilonNlp final : public OneConstraintTnlp {
     }
     cache_.ok = std::isfinite(cache_.F1) && std::isfinite(cache_.F2) && cache_.g1.allFinite() &&
                 cache_.g2.allFinite() && cache_.H1.allFinite() && cache_.H2.allFinite();
-    // A point where the objectives measure nothing is an evaluation error to Ipopt: its line
-    // search then backs off instead of accepting F = 0 there.
-    if (cache_.ok && problem_.degenerate(xd)) cache_.ok = false;
     return cache_;
   }
 
