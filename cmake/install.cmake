@@ -17,6 +17,10 @@ set_target_properties(bivo_suitesparse PROPERTIES EXPORT_NAME suitesparse)
 install(TARGETS ${BIVO_LAYER_TARGETS} bivo_suitesparse EXPORT bivoTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS bivo RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The plot scripts, found by bin/bivo relative to itself (experiments/plotting.cpp), so an
+# installed bivo writes plots without the source tree.
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/experiments/plots/ DESTINATION ${CMAKE_INSTALL_DATADIR}/bivo/plots
+        FILES_MATCHING PATTERN "*.py")
 # The public headers: the bi-objective layer, the analytic problems, and the odometry's TUM I/O
 # and renderer. The odometry instance and the engines are used through bin/bivo and the Python
 # module: their headers expose the per-pixel kernels' buffers (odometry/kernels/), which stay

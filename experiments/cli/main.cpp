@@ -41,16 +41,19 @@ int main(int argc, char** argv) {
   ex::add_plan_command(app);
   ex::add_work_command(app);
   ex::add_merge_command(app);
+  // Exit codes: 0 when every unit produced its result, 2 for a usage error (the command line
+  // does not parse: unknown flag, missing or malformed value), 1 for every other error.
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);  // prints the message (or the --help text, code 0)
+    return code == 0 ? 0 : 2;
   } catch (const bivo::Error& e) {
     std::cerr << "bivo: error: " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "bivo: internal error: " << e.what() << "\n";
-    return 2;
+    return 1;
   }
   return 0;
 }

@@ -37,11 +37,14 @@ json parts_json(const Study& s) {
   if (s.table) {
     j["table"] = {{"sequences", s.table->sequences}, {"methods", methods_json(s.table->methods)},
                   {"first_frame", s.table->first_frame}, {"max_frames", s.table->max_frames}};
+    // Written only when not the default, so the hashes of studies planned before stay valid.
+    if (s.table->rpe_delta != 1.0) j["table"]["rpe_delta"] = s.table->rpe_delta;
   }
   if (s.sweep) {
     j["sweep"] = {{"sequences", s.sweep->sequences},           {"lambdas", s.sweep->lambdas},
                   {"epsilons", s.sweep->epsilons},             {"epsilon_backend", s.sweep->epsilon_backend},
                   {"first_frame", s.sweep->first_frame},       {"max_frames", s.sweep->max_frames}};
+    if (s.sweep->rpe_delta != 1.0) j["sweep"]["rpe_delta"] = s.sweep->rpe_delta;
   }
   if (s.pareto) {
     const auto& o = s.pareto->options;
@@ -49,6 +52,7 @@ json parts_json(const Study& s) {
     for (const auto& p : s.pareto->pairs) pairs.push_back({{"sequence", p.sequence_dir}, {"pair", p.pair}});
     j["pareto"] = {{"level", o.level},           {"points", o.points}, {"lambda_min", o.lambda_min},
                    {"lambda_max", o.lambda_max}, {"methods", o.methods}, {"pairs", pairs}};
+    if (!o.backend.empty()) j["pareto"]["backend"] = o.backend;  // absent: the default, as planned before
   }
   return j;
 }
@@ -92,6 +96,7 @@ void check_study(const Study& s) {
   if (s.sweep && (sweep || !s.sweep->sequences.empty())) sweep_units(sweep_options(s));
   if (s.pareto) {
     if (pareto && s.pareto->pairs.empty()) throw Error("study: the pareto part has no pairs");
+    check_pareto_study_options(s.pareto->options);
     for (size_t k = 0; k < s.pareto->pairs.size(); ++k) {
       ParetoStudyOptions o = pareto_options(s, int(k));
       o.tracker.method = "single";
@@ -140,6 +145,7 @@ Study study_from_json(const json& j, const std::string& where) {
     for (const auto& m : tr.strings("methods")) o.methods.push_back(parse_method_spec(m));
     o.first_frame = tr.integer("first_frame", 0);
     o.max_frames = tr.integer("max_frames", -1);
+    tr.number("rpe_delta", o.rpe_delta, 1e-3, 1e6);
     tr.reject_unknown();
     s.table = o;
   }
@@ -152,6 +158,7 @@ Study study_from_json(const json& j, const std::string& where) {
     o.epsilon_backend = sr.string("epsilon_backend");
     o.first_frame = sr.integer("first_frame", 0);
     o.max_frames = sr.integer("max_frames", -1);
+    sr.number("rpe_delta", o.rpe_delta, 1e-3, 1e6);
     sr.reject_unknown();
     s.sweep = o;
   }
@@ -163,6 +170,7 @@ Study study_from_json(const json& j, const std::string& where) {
     p.options.lambda_min = pr.number("lambda_min");
     p.options.lambda_max = pr.number("lambda_max");
     p.options.methods = pr.strings("methods");
+    pr.string("backend", p.options.backend);
     int k = 0;
     for (const json& e : pr.array("pairs")) {
       Reader er(e, pr.path("pairs") + "[" + std::to_string(k++) + "]");
@@ -283,12 +291,22 @@ std::vector<StudyUnit> study_units(const Study& s) {
 }
 
 ShardSpec parse_shard(const std::string& text) {
-  ShardSpec s;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%d/%d%c", &s.index, &s.count, &tail) != 2 || s.count < 1 || s.index < 0 ||
-      s.index >= s.count) {
-    throw Error("--shard '" + text + "': expected I/N with 0 <= I < N (e.g. 0/4)");
+  // Digits only and bounded: sscanf's %d wrapped 99999999999 to another number.
+  constexpr long long kMaxShards = 1000000;
+  const auto slash = text.find('/');
+  const auto number = [&](const std::string& digits) -> long long {
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+    return std::stoll(digits);
+  };
+  const long long index = slash == std::string::npos ? -1 : number(text.substr(0, slash));
+  const long long count = slash == std::string::npos ? -1 : number(text.substr(slash + 1));
+  if (index < 0 || count < 1 || count > kMaxShards || index >= count) {
+    throw Error("--shard '" + text + "': expected I/N with 0 <= I < N <= " + std::to_string(kMaxShards) +
+                " (e.g. 0/4)");
   }
+  ShardSpec s;
+  s.index = int(index);
+  s.count = int(count);
   return s;
 }
 

@@ -47,7 +47,7 @@ MethodMatrix merged_matrix(const Study& study, const std::vector<StudyUnit>& uni
     MatrixCell c;  // partial merge: the cell stays empty, and says why
     const int n = int(o.sequences.size());
     c.sequence_dir = o.sequences[u.item % n];
-    c.sequence = sequence_label(c.sequence_dir);
+    c.sequence = sequence_labels(o.sequences).at(u.item % n);
     c.spec = o.methods[u.item / n];
     odometry::TrackerOptions t = o.tracker;
     t.method = c.spec.method;
@@ -73,7 +73,7 @@ SweepResult merged_sweep(const Study& study, const std::vector<StudyUnit>& units
     }
     SweepRun r;
     r.unit = su.at(u.item);
-    r.sequence = fs::path(o.sequences.at(r.unit.sequence)).filename().string();
+    r.sequence = sequence_labels(o.sequences).at(r.unit.sequence);
     r.missing = true;
     runs.push_back(r);
   }
@@ -163,6 +163,18 @@ MergeOutput merge_results(const Study& study, const std::map<std::string, json>&
   const std::vector<StudyUnit> units = study_units(study);
   fs::create_directories(dir);
   MergeOutput out;
+  out.units = int(units.size());
+  for (const StudyUnit& u : units) {
+    const auto it = results.find(u.id);
+    if (it == results.end()) continue;
+    std::string why;
+    try {
+      why = unit_failure(u, it->second);
+    } catch (const json::exception& e) {
+      throw Error("result of unit '" + u.id + "' is malformed: " + e.what());
+    }
+    if (!why.empty()) out.failures.push_back(u.id + ": " + why);
+  }
   if (study.kind == "table") {
     const MethodMatrix m = merged_matrix(study, units, results);
     write_matrix_trajectories(m, dir + "/trajectories");
@@ -172,10 +184,9 @@ MergeOutput merge_results(const Study& study, const std::map<std::string, json>&
   } else if (study.kind == "pareto") {
     std::vector<ParetoStudy> studies;
     for (const MergedPareto& p : merged_pareto(units, results)) {
-      // As in one process, a pair whose study failed fails the command; a missing one
-      // (partial merge) is left out.
+      // A pair whose study failed (counted in out.failures) or that is missing (partial
+      // merge) is left out; the others are written.
       if (p.outcome.study) studies.push_back(*p.outcome.study);
-      else if (!p.missing) throw Error(p.outcome.error);
     }
     out.markdown = write_pareto_studies(studies, study.pareto->options.methods, dir, study.plots);
   } else {

@@ -40,6 +40,8 @@ bool complete(const CollectedResults& results);
 struct MergeOutput {
   std::string markdown;                // what the single-process command prints
   std::optional<ReportResult> report;  // kind "report"
+  int units = 0;                       // the study's
+  std::vector<std::string> failures;   // "unit id: why" of the results that are failures (unit_failure)
 };
 
 // Assembles the results (unit id -> result; a missing unit becomes a missing cell / a note)

@@ -96,6 +96,7 @@ Study report_study(const ReportOptions& o, const std::string& output) {
   t.methods = o.methods;
   t.first_frame = o.first_frame;
   t.max_frames = o.max_frames;
+  t.rpe_delta = o.rpe_delta;
   s.table = t;
   std::vector<SequenceFacts> seq;
   for (const auto& dir : t.sequences) seq.push_back(facts(dir, o.tracker));
@@ -108,6 +109,7 @@ Study report_study(const ReportOptions& o, const std::string& output) {
     w.epsilons = o.epsilons;
     w.first_frame = o.first_frame;
     w.max_frames = o.sweep_max_frames;
+    w.rpe_delta = o.rpe_delta;
     s.sweep = w;
   }
   if (o.pareto) {
@@ -138,6 +140,7 @@ ReportOptions report_options(const Study& s) {
   o.tracker = s.tracker;
   o.first_frame = s.table->first_frame;
   o.max_frames = s.table->max_frames;
+  o.rpe_delta = s.table->rpe_delta;
   if (s.sweep) {
     o.lambdas = s.sweep->lambdas;
     o.epsilons = s.sweep->epsilons;

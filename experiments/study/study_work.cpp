@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "experiments/study/study_results.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
@@ -80,6 +81,16 @@ json run_unit(const Study& study, const StudyUnit& unit) {
     return pareto_outcome_to_json(out);
   }
   throw Error("study: unit '" + unit.id + "' of unknown part '" + unit.part + "'");
+}
+
+std::string unit_failure(const StudyUnit& unit, const json& result) {
+  if (unit.part == "table") return result.at("run").is_null() ? result.at("note").get<std::string>() : "";
+  if (unit.part == "sweep") {  // a run too short for its RPE windows is a result ("too short"), not a failure
+    const std::string error = result.at("ok").get<bool>() ? "" : result.at("error").get<std::string>();
+    return is_too_short(error) ? "" : error;
+  }
+  if (unit.part == "pareto") return result.at("error").get<std::string>();
+  return "";
 }
 
 UnitResultFile read_unit_result(const std::string& path) {
@@ -167,6 +178,7 @@ WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_unit_result(path, hash, unit, result, seconds);
     ++summary.ran;
+    if (const std::string why = unit_failure(unit, result); !why.empty()) summary.failed.push_back(unit.id + ": " + why);
     log << "work: [" << k << "/" << units.size() << "] " << unit.id << " " << std::fixed << std::setprecision(1)
         << seconds << " s" << std::defaultfloat << std::endl;
   }

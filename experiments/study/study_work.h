@@ -9,6 +9,7 @@
 //    "finished": "2024-05-01T12:00:00Z", "seconds": 12.3, "result": {...study_results.h...}}
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -31,6 +32,10 @@ std::string unit_file_name(const StudyUnit& unit);
 // run itself (bivo::Error) are part of the result, as the single-process commands record them.
 nlohmann::json run_unit(const Study& study, const StudyUnit& unit);
 
+// Why a unit produced no result, "" when it did: a table cell whose run failed, a sweep point
+// whose run failed, a Pareto pair whose study threw. Commands exit non-zero on any.
+std::string unit_failure(const StudyUnit& unit, const nlohmann::json& result);
+
 struct UnitResultFile {
   std::string path, study_hash, unit, bivo_version, host, finished;
   double seconds = 0;
@@ -50,6 +55,7 @@ struct WorkSummary {
   int units = 0;    // in the shard
   int ran = 0;      // run now
   int skipped = 0;  // finished earlier (resume)
+  std::vector<std::string> failed;  // "unit id: why" of the units run now that produced no result
 };
 
 // Runs the units of `shard` that have no valid result file in results_dir (created), one
