@@ -165,6 +165,10 @@ std::vector<TrackerOption> build_table() {
       number("problem.occlusion_margin", "--occlusion-margin", 0.0, kInf,
              "a warped point this far behind the current depth is occluded [m]",
              BIVO_FIELD(problem.occlusion_margin)),
+      number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
+             "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "
+             "(a degenerate pose: the level is skipped)",
+             BIVO_FIELD(problem.min_valid_fraction)),
       other(T::kBoolean, "problem.depth_first", "", "set by the method (depth)", BIVO_FIELD(problem.depth_first)),
       other(T::kBoolean, "problem.joint_weights", "", "set by the method (joint)",
             BIVO_FIELD(problem.joint_weights)),

@@ -377,6 +377,8 @@ std::array<double, 2> RgbdOdometryProblem::evaluate_only(const Eigen::VectorXd& 
   const TermBuffers buf = buffers();
   const WarpSums s = sum_over_chunks<WarpSums>(
       r_i_.size(), kChunkTerms, options_.threads, [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  counted_x_ = x;
+  counted_sums_ = s;
   if (options_.depth_first) return {s.f_d, s.f_i};
   return {s.f_i, s.f_d};
 }
@@ -432,6 +434,37 @@ double RgbdOdometryProblem::pixel_motion(const Eigen::VectorXd& x, const Eigen::
     motion_metric_ = samples > 0 ? M / samples : M;
   }
   return std::sqrt(std::max(0.0, delta.dot(*motion_metric_ * delta)));
+}
+
+std::optional<std::string> RgbdOdometryProblem::degenerate(const Eigen::VectorXd& x) {
+  check_x(x);
+  const ObjectiveMask mask = modelled();
+  WarpSums s;
+  if (warp_x_.size() == x.size() && warp_x_ == x && covers(warp_mask_, mask)) {
+    s = warp_sums_;
+  } else if (counted_x_.size() == x.size() && counted_x_ == x) {
+    s = counted_sums_;  // evaluate_only() at x, same objectives (modelled())
+  } else if (covers(weights_mask_, options_.joint_weights ? both() : mask)) {
+    // A counting pass that writes nothing (the buffers keep the latest warp).
+    WarpParams p = warp_params(x, mask);
+    p.weighted_sums = true;
+    p.store = false;
+    const ReferenceArrays ref = reference_terms_.view();
+    const TermBuffers buf = buffers();
+    s = sum_over_chunks<WarpSums>(r_i_.size(), kChunkTerms, options_.threads,
+                                  [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  } else {
+    warp_all(x, mask, false);
+    s = warp_sums_;
+  }
+  const long long valid = options_.depth_first ? s.valid_d : s.valid_i;
+  const long long terms = num_terms();
+  const double needed = std::max<double>(options_.min_valid_terms, options_.min_valid_fraction * static_cast<double>(terms));
+  if (static_cast<double>(valid) >= needed) return std::nullopt;
+  return std::to_string(valid) + " of " + std::to_string(terms) + " terms valid, fewer than " +
+         std::to_string(static_cast<long long>(std::ceil(needed))) + " (min_valid_terms " +
+         std::to_string(options_.min_valid_terms) + ", min_valid_fraction " + std::to_string(options_.min_valid_fraction) +
+         ")";
 }
 
 solvers::ResidualData RgbdOdometryProblem::residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) {

@@ -95,6 +95,9 @@ void validate(const TrackerOptions& options) {
   if (options.exact_finish_iterations < 0) {
     throw Error("exact finish iterations must be >= 0 (0: off), got " + std::to_string(options.exact_finish_iterations));
   }
+  if (!(options.problem.min_valid_fraction >= 0.0 && options.problem.min_valid_fraction <= 1.0)) {
+    throw Error("min valid fraction must be in [0, 1], got " + std::to_string(options.problem.min_valid_fraction));
+  }
   if (options.max_iterations < 1) {
     throw Error("max iterations per level must be >= 1, got " + std::to_string(options.max_iterations));
   }
@@ -222,6 +225,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
   problem_options.model_f2 = !one_objective;
+  problem_options.min_valid_terms = std::max(problem_options.min_valid_terms, options.min_valid_pixels);
 
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
@@ -311,10 +315,14 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.iterations = summary.iterations;
     lr.termination = solvers::to_string(summary.termination);
     result.iterations += summary.iterations;
-    if (!x.allFinite() || stats.valid_intensity < options.min_valid_pixels) {
+    // A degenerate end, or a whole-problem backend that says it failed: no estimate here.
+    const bool degenerate = summary.termination == solvers::TerminationReason::kDegeneratePoint ||
+                            summary.termination == solvers::TerminationReason::kBackendFailure;
+    if (!x.allFinite() || degenerate || stats.valid_intensity < options.min_valid_pixels) {
       x = x_before;  // the level's data could not support an estimate: keep the coarser one
       lr.skipped = true;
-      lr.termination = "skipped: " + std::to_string(stats.valid_intensity) + " valid pixels after warping";
+      lr.termination = degenerate ? "skipped: " + summary.message
+                                  : "skipped: " + std::to_string(stats.valid_intensity) + " valid pixels after warping";
       result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
       result.levels.push_back(lr);
       continue;
@@ -365,6 +373,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   po.depth_first = parse_method(options.method) == Method::kDepth;
   po.joint_weights = parse_method(options.method) == Method::kJoint;
   po.jacobian = method_jacobian(parse_method(options.method), po.jacobian);
+  po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }
 

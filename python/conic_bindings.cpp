@@ -78,6 +78,8 @@ void bind_conic(py::module_& m) {
       .def_readonly("dual_residual", &IpmResult::dual_residual)
       .def_readonly("gap", &IpmResult::gap)
       .def_readonly("relative_gap", &IpmResult::relative_gap)
+      .def_readonly("objective_gap", &IpmResult::objective_gap)
+      .def_readonly("infinite_rows", &IpmResult::infinite_rows)
       .def_readonly("reduced_accuracy", &IpmResult::reduced_accuracy)
       .def_readonly("polished", &IpmResult::polished)
       .def_readonly("note", &IpmResult::note)
@@ -87,7 +89,7 @@ void bind_conic(py::module_& m) {
 
   m.def("solve_conic", [](const py::object& c, const py::object& G, const py::object& h, const py::dict& cones,
                           const py::object& A, const py::object& b, double feastol, double abstol, double reltol,
-                          int max_iterations, int equilibration_passes, bool polish) {
+                          int max_iterations, int equilibration_passes, bool polish, double gaptol, double infinity) {
     ConicProblem p;
     p.c = vector_arg(c, "c");
     const Eigen::Index n = p.c.size();
@@ -109,11 +111,14 @@ void bind_conic(py::module_& m) {
     s.max_iterations = max_iterations;
     s.equilibration_passes = equilibration_passes;
     s.polish = polish;
+    s.gaptol = gaptol;
+    s.infinity = infinity;
     py::gil_scoped_release release;
     return solvers::conic::solve_conic(p, s);
   }, py::arg("c"), py::arg("G"), py::arg("h"), py::arg("cones"), py::arg("A") = py::none(), py::arg("b") = py::none(),
      py::arg("feastol") = 1e-8, py::arg("abstol") = 1e-8, py::arg("reltol") = 1e-8, py::arg("max_iterations") = 100,
      py::arg("equilibration_passes") = 12, py::arg("polish") = true,
+     py::arg("gaptol") = 1e-8, py::arg("infinity") = 1e20,
      "minimize c.x s.t. A x = b, G x + s = h, s in K = R^l_+ x Q^q1 x ...; G, A dense or scipy.sparse.");
 }
 

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <string>
 
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
@@ -51,6 +53,20 @@ double extrapolation_factor(const Eigen::VectorXd& delta, const Eigen::VectorXd&
   return std::min(max_factor, 1.0 / (1.0 - rho));
 }
 
+// A solve that ends where the problem's objectives measure nothing (degenerate()) has
+// failed, whatever its tolerances said: x goes back to where the solve started.
+void reject_degenerate_end(BiObjectiveProblem& problem, const Eigen::VectorXd& x_start, Eigen::VectorXd& x,
+                           Summary& summary) {
+  if (!x.allFinite()) return;
+  const std::optional<std::string> why = problem.degenerate(x);
+  if (!why) return;
+  summary.termination = TerminationReason::kDegeneratePoint;
+  summary.message = "degenerate point (" + *why + "); x reset to the start of the solve";
+  x = x_start;
+  summary.final_f1 = summary.initial_f1;
+  summary.final_f2 = summary.initial_f2;
+}
+
 }  // namespace
 
 Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend,
@@ -71,6 +87,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     throw Error("solve: max_iterations must be >= 0, got " + std::to_string(options.max_iterations));
   }
 
+  const Eigen::VectorXd x_start = x;
   Summary summary;
   summary.problem = problem.name();
   summary.backend = backend.name();
@@ -269,6 +286,7 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
   if (summary.kind == ScalarizationKind::kEpsilonConstraint && summary.iterations > 0) {
     summary.feasible = last_feasible && f[1] <= summary.epsilon * (1.0 + 1e-6) + 1e-300;
   }
+  reject_degenerate_end(problem, x_start, x, summary);
   summary.total_seconds = seconds_since(t_start);
   const double accounted = summary.phases.total_seconds();
   summary.phases.add("other", std::max(0.0, summary.total_seconds - accounted));
@@ -285,7 +303,10 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, c
     if (!whole->supports(scalarization.kind())) {
       throw Error("backend '" + backend + "' does not support " + scalarization.describe());
     }
-    return whole->solve(problem, scalarization, x, options);
+    const Eigen::VectorXd x_start = x;
+    Summary summary = whole->solve(problem, scalarization, x, options);
+    reject_degenerate_end(problem, x_start, x, summary);
+    return summary;
   }
   auto step = info.make_step();
   return solve(problem, scalarization, *step, x, options, carry);

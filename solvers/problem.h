@@ -73,6 +73,16 @@ class BiObjectiveProblem {
   // r_j (and J_j if asked) at x, weights as of the latest linearize(); j in {1, 2}.
   // Whole-problem backends (Ceres, Ipopt over the manifold) use this.
   virtual ResidualData residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) = 0;
+
+  // Why x is a point whose objectives cannot be trusted, or nothing when they can. A problem
+  // whose terms drop out as x moves (an image warp that leaves the image) can drive F_1 and
+  // F_2 to 0 by measuring nothing; it says so here. Every backend's final x is checked
+  // (TerminationReason::kDegeneratePoint instead of convergence there, x reset to the start),
+  // and Ceres refuses degenerate trial points. Default: every point is valid.
+  virtual std::optional<std::string> degenerate(const Eigen::VectorXd& x) {
+    (void)x;
+    return std::nullopt;
+  }
 };
 
 // linearize() of a problem that forms r_j and J_j explicitly: both models from

@@ -13,6 +13,7 @@ const char* to_string(TerminationReason reason) {
     case TerminationReason::kNoProgress: return "no progress";
     case TerminationReason::kNumericalFailure: return "numerical failure";
     case TerminationReason::kBackendFailure: return "backend failure";
+    case TerminationReason::kDegeneratePoint: return "degenerate point";
   }
   return "unknown";
 }

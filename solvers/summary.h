@@ -56,6 +56,8 @@ enum class TerminationReason {
   kNoProgress,         // damped backend rejected too many steps in a row
   kNumericalFailure,   // NaN/Inf step or objective; x left at the last good value
   kBackendFailure,     // whole-problem backend (Ceres, Ipopt) reported failure
+  kDegeneratePoint,    // the solve ended where the problem's objectives measure nothing
+                       // (BiObjectiveProblem::degenerate); x reset to the start
 };
 const char* to_string(TerminationReason reason);
 

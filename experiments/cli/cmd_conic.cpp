@@ -26,6 +26,12 @@ void add_conic_command(CLI::App& app) {
   cmd->add_option("--feastol", settings.feastol, "primal/dual residual tolerance (relative)")->check(kFinitePositive);
   cmd->add_option("--abstol", settings.abstol, "absolute duality gap tolerance")->check(kFiniteNonNegative);
   cmd->add_option("--reltol", settings.reltol, "relative duality gap tolerance")->check(kFinitePositive);
+  cmd->add_option("--gaptol", settings.gaptol, "relative objective gap |c'x + b'y + h'z| / (1 + |c'x|) tolerance")
+      ->check(kFinitePositive);
+  cmd->add_option("--infinity", settings.infinity,
+                  "bounds at or beyond this are absent: orthant rows with h >= it, SOCs with head h >= it are removed")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--max-iter", settings.max_iterations, "iteration limit")->check(CLI::PositiveNumber);
   cmd->add_option("--equilibration-passes", settings.equilibration_passes, "Ruiz passes (0 = off)")
       ->check(CLI::NonNegativeNumber);

@@ -178,7 +178,9 @@ std::string conic_result_text(const solvers::conic::IpmResult& r, bool solution)
   };
   line("status: %s%s\n", solvers::conic::to_string(r.status).c_str(), r.reduced_accuracy ? " (reduced accuracy)" : "");
   line("objective: %.12g (dual %.12g)\n", r.primal_objective, r.dual_objective);
-  line("residuals: primal %.3e dual %.3e gap %.3e\n", r.primal_residual, r.dual_residual, r.gap);
+  line("residuals: primal %.3e dual %.3e gap %.3e objective gap %.3e\n", r.primal_residual, r.dual_residual, r.gap,
+       r.objective_gap);
+  if (r.infinite_rows > 0) line("infinite bounds: %d rows removed before the solve (z = 0, s = h - G x there)\n", r.infinite_rows);
   if (r.polished) {
     line("iterations: %d, then polished (%d Newton steps on the active set)\n", r.iterations, r.polish_newton_steps);
   } else {

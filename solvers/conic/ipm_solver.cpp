@@ -9,7 +9,9 @@
 #include <ostream>
 #include <utility>
 
+#include "solvers/conic/certificate.h"
 #include "solvers/conic/cones.h"
+#include "solvers/conic/infinite_rows.h"
 #include "solvers/conic/kkt_system.h"
 #include "solvers/conic/polish.h"
 #include "solvers/conic/residuals.h"
@@ -35,16 +37,6 @@ struct Direction {
   double dtau = 0.0, dkappa = 0.0;
 };
 
-// Which verdict the residuals support at the given tolerances; kMaxIterations = none yet.
-IpmStatus classify(const Residuals& r, double feastol, double abstol, double reltol) {
-  if (r.primal_residual < feastol && r.dual_residual < feastol && (r.gap < abstol || r.relative_gap < reltol)) {
-    return IpmStatus::kOptimal;
-  }
-  if (r.hz_by < 0.0 && r.primal_infeasibility < feastol) return IpmStatus::kPrimalInfeasible;
-  if (r.cx < 0.0 && r.dual_infeasibility < feastol) return IpmStatus::kDualInfeasible;
-  return IpmStatus::kMaxIterations;
-}
-
 class Solver {
  public:
   // One solve: the set-up (scaled copy of the data, KKT pattern, ordering) into this
@@ -58,6 +50,8 @@ class Solver {
   void setup(const ConicProblem& original, const IpmSettings& settings, IpmClock* clock) {
     op_ = &original;
     st_ = settings;
+    strict_ = strict_tolerances(settings);
+    reduced_ = reduced_tolerances(settings);
     clock_ = clock;
     PhaseScope phase(clock_, IpmPhase::kEquilibration);
     // The scaled problem: c, A, b, h copied and scaled here (into the buffers of the last
@@ -111,60 +105,29 @@ class Solver {
   bool direction(double sigma, const Eigen::VectorXd& bs, double rk, Direction& d, bool refine = true);
   double max_step(const Direction& d) const;
   IpmResult& finish(IpmStatus status, const Variables& v, int iterations);
-  // Polishes v; true (r_ and polished_ then describe the polished point) when it meets the
-  // tolerances.
-  bool try_polish(const Variables& v, double feastol, double abstol, double reltol);
+  // Polishes v and returns the finished result when the polished point is certified optimal
+  // at tolerances t (allow_reduced: or at the reduced ones), else nullptr with the state
+  // left as it was: the caller goes on with the interior point.
+  IpmResult* polish_exit(const Variables& v, const Tolerances& t, int iterations, bool allow_reduced);
   // Numerical trouble or the iteration limit: like ECOS, accept the best iterate at the
   // reduced-accuracy tolerances if it meets them (flagged), else report the failure.
   IpmResult& stop_early(IpmStatus failure, const char* where, const Variables& best, int iterations) {
     if (st_.log) *st_.log << "stopped: " << where << "\n";
     v_ = best;
     residuals(v_, r_);
-    const IpmStatus verdict = classify(r_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate);
+    const IpmStatus found = verdict(r_, reduced_);
     // The polished point may meet the strict tolerances, or at least the reduced ones with a
     // far more accurate x (the full form's stall: relative gap 1e-11, x only to 1e-5).
-    if (verdict == IpmStatus::kOptimal &&
-        try_polish(v_, st_.feastol_inaccurate, st_.abstol_inaccurate, st_.reltol_inaccurate)) {
-      IpmResult& res = finish(IpmStatus::kOptimal, polished_, iterations);
-      res.reduced_accuracy = classify(r_, st_.feastol, st_.abstol, st_.reltol) != IpmStatus::kOptimal;
-      if (res.reduced_accuracy) explain_reduced_accuracy(polished_, res);
-      return res;
+    if (found == IpmStatus::kOptimal) {
+      if (IpmResult* res = polish_exit(v_, reduced_, iterations, true)) return *res;
     }
-    IpmResult& res = finish(verdict == IpmStatus::kMaxIterations ? failure : verdict, v_, iterations);
-    res.reduced_accuracy = verdict != IpmStatus::kMaxIterations;
-    if (res.reduced_accuracy) explain_reduced_accuracy(v_, res);
-    return res;
-  }
-  // Which strict tolerance the accepted point misses, and whether double precision could
-  // have met it at all (residual_floors).
-  void explain_reduced_accuracy(const Variables& v, IpmResult& res) {
-    const ResidualFloors f = residual_floors(sp_, gmat_, *op_, eq_, v);
-    res.primal_residual_floor = f.primal;
-    res.dual_residual_floor = f.dual;
-    char buf[200];
-    std::string why;
-    auto add = [&](const char* what, double value, double tol, double floor) {
-      if (!(value > tol)) return;
-      std::snprintf(buf, sizeof buf, "%s%s %.1e > %.1e", why.empty() ? "" : ", ", what, value, tol);
-      why += buf;
-      if (floor > 0.0 && tol < floor) {
-        std::snprintf(buf, sizeof buf, " (below its rounding floor %.1e)", floor);
-        why += buf;
-      }
-    };
-    add("primal residual", res.primal_residual, st_.feastol, f.primal);
-    add("dual residual", res.dual_residual, st_.feastol, f.dual);
-    if (!(res.gap < st_.abstol || res.relative_gap < st_.reltol)) {
-      std::snprintf(buf, sizeof buf, "%sgap %.1e (relative %.1e) above abstol %.1e / reltol %.1e", why.empty() ? "" : ", ",
-                    res.gap, res.relative_gap, st_.abstol, st_.reltol);
-      why += buf;
-    }
-    res.note = why;
+    return finish(found == IpmStatus::kMaxIterations ? failure : found, v_, iterations);
   }
   IpmResult& trouble(const char* where, int iterations) {
     return stop_early(IpmStatus::kNumericalTrouble, where, last_good_, iterations);
   }
   Variables last_good_;
+  Tolerances strict_, reduced_;
   double best_score_ = std::numeric_limits<double>::infinity();
   int stalled_ = 0;
   void log_header() const;
@@ -224,10 +187,12 @@ bool Solver::initialize() {
   v_.z = sol.tail(m_);
   if (m_ > 0) {
     PhaseScope phase(clock_, IpmPhase::kCones);
+    // Shifted into K with a margin relative to the shift: next to an entry of 1e18 (a large
+    // finite bound) a shift of exactly 1 - e rounds the smallest entry to 0, on the boundary.
     const double es = cones_->min_eigenvalue(v_.s);
-    if (es <= 0.0) cones_->add_identity(v_.s, 1.0 - es);
+    if (es <= 0.0) cones_->add_identity(v_.s, (1.0 - es) * (1.0 + 1e-8));
     const double ez = cones_->min_eigenvalue(v_.z);
-    if (ez <= 0.0) cones_->add_identity(v_.z, 1.0 - ez);
+    if (ez <= 0.0) cones_->add_identity(v_.z, (1.0 - ez) * (1.0 + 1e-8));
   }
   v_.tau = 1.0;
   v_.kappa = 1.0;
@@ -304,35 +269,44 @@ IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) 
     res.y.setZero(p_);
     res.z.setZero(m_);
   }
-  res.primal_objective = r_.primal_objective;
-  res.dual_objective = r_.dual_objective;
-  res.primal_residual = r_.primal_residual;
-  res.dual_residual = r_.dual_residual;
-  res.gap = r_.gap;
-  res.relative_gap = r_.relative_gap;
-  res.kkt_factor_nonzeros = kkt_.factor_nonzeros();
   res.polished = is_polished_;
+  // The status is what the returned vectors certify on the given data (certificate.h).
+  const ExitMeasures m = certify(*op_, st_, res);
+  if (res.reduced_accuracy) {
+    const ResidualFloors f = residual_floors(sp_, gmat_, *op_, eq_, v);
+    res.primal_residual_floor = f.primal;
+    res.dual_residual_floor = f.dual;
+    res.note = shortfall(m, res.status, strict_, f.primal, f.dual);
+  }
+  res.kkt_factor_nonzeros = kkt_.factor_nonzeros();
   res.polish_newton_steps = is_polished_ ? polisher_->last_newton_steps() : 0;
   return res;
 }
 
-bool Solver::try_polish(const Variables& v, double feastol, double abstol, double reltol) {
-  if (!st_.polish || !polisher_) return false;  // (a workspace keeps the polisher of earlier solves)
-  PhaseScope phase(clock_, IpmPhase::kPolish);
-  if (clock_) ++clock_->timings().polish_attempts;
-  if (!polisher_->polish(v, polished_)) return false;
-  compute_residuals(sp_, gmat_, *op_, eq_, polished_, polished_r_);
-  if (classify(polished_r_, feastol, abstol, reltol) != IpmStatus::kOptimal) return false;
-  if (st_.log) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "polished (%d Newton steps): pres %.1e, dres %.1e, gap %.1e\n",
-                  polisher_->last_newton_steps(), polished_r_.primal_residual, polished_r_.dual_residual,
-                  polished_r_.gap);
-    *st_.log << buf;
+IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iterations, bool allow_reduced) {
+  if (!st_.polish || !polisher_) return nullptr;  // (a workspace keeps the polisher of earlier solves)
+  {
+    PhaseScope phase(clock_, IpmPhase::kPolish);
+    if (clock_) ++clock_->timings().polish_attempts;
+    if (!polisher_->polish(v, polished_)) return nullptr;
+    compute_residuals(sp_, gmat_, *op_, eq_, polished_, polished_r_);
+    if (verdict(polished_r_, t) != IpmStatus::kOptimal) return nullptr;
   }
   std::swap(r_, polished_r_);
   is_polished_ = true;
-  return true;
+  IpmResult& res = finish(IpmStatus::kOptimal, polished_, iterations);
+  const bool accepted = res.status == IpmStatus::kOptimal && (allow_reduced || !res.reduced_accuracy);
+  if (st_.log) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "polished (%d Newton steps): pres %.1e, dres %.1e, gap %.1e, objective gap %.1e%s\n",
+                  polisher_->last_newton_steps(), res.primal_residual, res.dual_residual, res.gap,
+                  res.objective_gap, accepted ? "" : ": rejected on the unscaled data");
+    *st_.log << buf;
+  }
+  if (accepted) return &res;
+  std::swap(r_, polished_r_);
+  is_polished_ = false;
+  return nullptr;
 }
 
 void Solver::log_header() const {
@@ -369,11 +343,11 @@ IpmResult& Solver::iterate() {
     if (!std::isfinite(r_.primal_residual) || !std::isfinite(r_.dual_residual) || !std::isfinite(mu)) {
       return trouble("non-finite residuals", k);
     }
-    const IpmStatus verdict = classify(r_, st_.feastol, st_.abstol, st_.reltol);
-    if (verdict != IpmStatus::kMaxIterations) return finish(verdict, v_, k);
+    const IpmStatus found = verdict(r_, strict_);
+    if (found != IpmStatus::kMaxIterations) return finish(found, v_, k);
     if (r_.primal_residual < st_.polish_from && r_.dual_residual < st_.polish_from &&
-        std::min(r_.gap, r_.relative_gap) < st_.polish_from && try_polish(v_, st_.feastol, st_.abstol, st_.reltol)) {
-      return finish(IpmStatus::kOptimal, polished_, k);
+        std::min(r_.gap, r_.relative_gap) < st_.polish_from) {
+      if (IpmResult* res = polish_exit(v_, strict_, k, false)) return *res;
     }
     // Keep the iterate closest to any verdict, for the reduced-accuracy exits.
     const double score = std::min({std::max({r_.primal_residual, r_.dual_residual, std::min(r_.gap, r_.relative_gap)}),
@@ -456,6 +430,7 @@ std::string status_text(const IpmResult& r) {
 
 struct IpmWorkspace::State {
   Solver solver;
+  InfiniteRows infinite_rows;  // the presolved problem, when rows were set aside
 };
 
 IpmWorkspace::IpmWorkspace() : state_(std::make_unique<State>()) {}
@@ -465,14 +440,18 @@ IpmWorkspace& IpmWorkspace::operator=(IpmWorkspace&&) noexcept = default;
 
 namespace {
 
-IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, Solver& solver) {
+IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, IpmWorkspace::State& state) {
   IpmTimings timings;
   IpmClock clock(timings);
+  bool presolved = false;
   {
     PhaseScope phase(&clock, IpmPhase::kValidation);
     validate(problem);
+    presolved = remove_infinite_rows(problem, settings.infinity, state.infinite_rows);
   }
-  IpmResult& r = solver.run(problem, settings, &clock);
+  IpmResult& r = state.solver.run(presolved ? state.infinite_rows.reduced : problem, settings, &clock);
+  r.infinite_rows = 0;
+  if (presolved) restore_infinite_rows(problem, state.infinite_rows, r);
   clock.enter(IpmPhase::kOther);  // charges the time since the last switch
   r.timings = timings;
   r.seconds = timings.total_seconds();
@@ -482,12 +461,12 @@ IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, 
 }  // namespace
 
 const IpmResult& solve_conic(const ConicProblem& problem, const IpmSettings& settings, IpmWorkspace& workspace) {
-  return solve_with(problem, settings, workspace.state_->solver);
+  return solve_with(problem, settings, *workspace.state_);
 }
 
 IpmResult solve_conic(const ConicProblem& problem, const IpmSettings& settings) {
-  Solver solver;
-  return std::move(solve_with(problem, settings, solver));
+  IpmWorkspace::State state;
+  return std::move(solve_with(problem, settings, state));
 }
 
 }  // namespace bivo::solvers::conic

@@ -28,11 +28,21 @@ struct IpmSettings {
   double feastol = 1e-8;   // primal/dual residual, relative
   double abstol = 1e-8;    // absolute duality gap s^T z
   double reltol = 1e-8;    // relative duality gap
+  // Relative objective gap |c'x + b'y + h'z| / (1 + |c'x|) (certificate.h): the test that a
+  // point feasible only relative to a huge ||h|| cannot pass.
+  double gaptol = 1e-8;
   // Reduced-accuracy tolerances (ECOS's "inaccurate" exits): used only when the iteration
   // stalls (numerical trouble, iteration limit); the result then has reduced_accuracy set.
   double feastol_inaccurate = 1e-4;
   double abstol_inaccurate = 5e-5;
   double reltol_inaccurate = 5e-5;
+  double gaptol_inaccurate = 5e-5;
+  // Bounds at or beyond this are absent, as modelling tools write them (1e20, 1e30): an
+  // orthant row with h >= infinity and a second-order cone whose head h >= infinity (its tail
+  // finite) are removed before the solve and restored in the result (z = 0, s = h - G x).
+  // Rows with h <= -infinity and equalities are real constraints and are kept.
+  // +infinity = no presolve.
+  double infinity = 1e20;
   int max_iterations = 100;
   int equilibration_passes = 12;  // 0 = off
   double step_fraction = 0.99;    // of the distance to the boundary
@@ -53,11 +63,16 @@ struct IpmSettings {
 
 struct IpmResult {
   IpmStatus status = IpmStatus::kNumericalTrouble;
-  // Optimal: the solution. Primal infeasible: (y, z) a certificate with h^T z + b^T y = -1.
+  // Every verdict is certified from these vectors (certificate.h); a point that fails is not
+  // returned as optimal. Optimal: the solution. Primal infeasible: (y, z) a certificate with h^T z + b^T y = -1.
   // Dual infeasible: (x, s) a certificate with c^T x = -1. Other: the last iterate / tau.
   Eigen::VectorXd x, y, z, s;
   double primal_objective = 0.0, dual_objective = 0.0;
+  // Measured on the returned (x, y, z, s) and the given data, unscaled (certificate.h),
+  // after any rows treated as infinite are set aside (their z = 0, s = h - G x).
   double primal_residual = 0.0, dual_residual = 0.0, gap = 0.0, relative_gap = 0.0;
+  double objective_gap = 0.0;     // |c'x + b'y + h'z| / (1 + |c'x|)
+  int infinite_rows = 0;          // rows of G removed as infinite bounds (IpmSettings::infinity)
   bool reduced_accuracy = false;  // met only the *_inaccurate tolerances; `note` says which
                                   // strict tolerance failed and whether it is below what
                                   // double precision can resolve (its rounding floor)

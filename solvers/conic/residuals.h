@@ -6,30 +6,22 @@
 // mean the same with and without equilibration.
 #include <Eigen/Core>
 
+#include "solvers/conic/certificate.h"
 #include "solvers/conic/constraint_matrix.h"
 #include "solvers/conic/problem_data.h"
 #include "solvers/conic/variables.h"
 
 namespace bivo::solvers::conic {
 
-struct Residuals {
+struct Residuals : ExitMeasures {
   // Embedding residuals (scaled problem), used by the Newton step.
   Eigen::VectorXd rx, ry, rz;
   double rtau = 0.0;
-
-  // Measures on (x, y, z, s)/tau in original units.
-  double primal_objective = 0.0, dual_objective = 0.0;
-  double gap = 0.0, relative_gap = 0.0;
-  double primal_residual = 0.0;  // max(||A x - b|| / max(1,||b||), ||G x + s - h|| / max(1,||h||))
-  double dual_residual = 0.0;    // ||A^T y + G^T z + c|| / max(1, ||c||)
-  // Infeasibility certificates on the unnormalized iterate (original units):
-  double hz_by = 0.0;            // h^T z + b^T y   (< 0 for a primal infeasibility certificate)
-  double primal_infeasibility = 0.0;  // ||A^T y + G^T z|| / -(h^T z + b^T y)
-  double cx = 0.0;               // c^T x           (< 0 for a dual infeasibility certificate)
-  double dual_infeasibility = 0.0;    // max(||A x||, ||G x + s||) / -c^T x
+  // ExitMeasures: of (x, y, z, s)/tau in original units (cone_violation stays 0: iterates
+  // are interior by construction); infeasibility measures on the unnormalized iterate.
 
   // Work space, kept between calls so an iteration allocates nothing.
-  Eigen::VectorXd atyz, ax, gx;
+  Eigen::VectorXd atyz, ax, gx, gxs;
 };
 
 // `scaled` is the problem the IPM iterates on (G its constraint matrix), `original` the

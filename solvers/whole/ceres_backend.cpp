@@ -82,6 +82,9 @@ class WeightedSumCost final : public ceres::CostFunction {
     res.head(n1_) = s1.cwiseProduct(d1.r);
     res.tail(n2_) = s2.cwiseProduct(d2.r);
     if (!res.allFinite()) return false;
+    // A point where the objectives measure nothing is an evaluation failure to Ceres: the step
+    // is refused and the trust region shrinks, instead of F = 0 being accepted there.
+    if (problem_.degenerate(x)) return false;
     if (want_j) {
       const int t = m.tangent_dim();
       if (d1.J.rows() != n1_ || d1.J.cols() != t || d2.J.rows() != n2_ || d2.J.cols() != t) return false;

@@ -226,6 +226,22 @@ class IpoptNlpBackend final : public WholeProblemBackend {
         // F_2 (the nonlinear analogue of the step backends' min m_2 step), else the start.
         if (!(f_new[1] < problem.evaluate(x)[1])) x_new = x, f_new = problem.evaluate(x);
       }
+      if (st == Ipopt::MAXITER_EXCEEDED) {
+        // An interior-point iterate cut off by the budget need not be better than where the
+        // round started: keep it only when it lowers the violation of F_2 <= epsilon, or stays
+        // feasible and lowers F_1 (a filter test); else the round failed and x stays.
+        const auto f_start = problem.evaluate(x);
+        const double v_new = std::max(0.0, f_new[1] - epsilon), v_start = std::max(0.0, f_start[1] - epsilon);
+        if (!(v_new < v_start || (v_new == 0.0 && v_start == 0.0 && f_new[0] < f_start[0]))) {
+          summary.termination = TerminationReason::kBackendFailure;
+          std::ostringstream msg;
+          msg << "Ipopt's iteration budget ran out at a point worse than its start (F = " << f_new[0] << ", "
+              << f_new[1] << " against " << f_start[0] << ", " << f_start[1] << ", epsilon " << epsilon << "); x kept";
+          summary.message = msg.str();
+          last_feasible = v_start == 0.0;
+          break;
+        }
+      }
       const double moved = m.minus(x_new, x).norm();
       x = x_new;
       summary.multiplier = infeasible ? std::numeric_limits<double>::infinity()
