@@ -220,7 +220,7 @@ TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
 }
 
 // Two frame loaders only where each gets a core of its own beside the per-pixel threads:
-// otherwise they stretch every pair's wall time (docs/faq.md).
+// otherwise they stretch every pair's wall time (docs/scaling.md).
 TEST(Tracker, AutoLoadThreadsTakeOnlyFreeCores) {
   TrackerOptions o;
   EXPECT_EQ(o.load_threads, 0);  // auto by default
