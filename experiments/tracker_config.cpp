@@ -33,7 +33,8 @@ json tracker_options_to_json(const TrackerOptions& o) {
   json policy = {{"lambda", o.policy.lambda}, {"phi", o.policy.phi},        {"delta", o.policy.delta},
                  {"eps_min", o.policy.eps_min}, {"eps_max", o.policy.eps_max}, {"eps", nullptr},
                  {"kappa", o.policy.kappa},     {"eps_ratio", o.policy.eps_ratio}, {"guard", o.policy.guard},
-                 {"joint_tolerance", o.policy.joint_tolerance}, {"relaxed_tolerance", o.policy.relaxed_tolerance}};
+                 {"joint_tolerance", o.policy.joint_tolerance}, {"relaxed_tolerance", o.policy.relaxed_tolerance},
+                 {"trust", o.policy.trust}};
   if (o.policy.eps) policy["eps"] = *o.policy.eps;
   json j = {
       {"method", o.method},
@@ -121,6 +122,7 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
     pr.number("guard", o.policy.guard, 0.0, kInf);
     pr.number("joint_tolerance", o.policy.joint_tolerance, 0.0, kInf);
     pr.number("relaxed_tolerance", o.policy.relaxed_tolerance, 0.0, kInf);
+    pr.number("trust", o.policy.trust, 0.0, kInf);
     if (const json* e = pr.find("eps")) {
       if (e->is_null()) {
         o.policy.eps.reset();

@@ -71,6 +71,14 @@ TrackerFlags::TrackerFlags(CLI::App* cmd, bool with_method) : cmd_(cmd), with_me
         d.policy.relaxed_tolerance, [](TrackerOptions& o, const double& v) { o.policy.relaxed_tolerance = v; });
     guard_ = add<double>("--guard", "method noise-bounded: rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
                          d.policy.guard, [](TrackerOptions& o, const double& v) { o.policy.guard = v; });
+    add<int>("--photometric-start-levels",
+             "methods joint, robust: the coarsest N levels start from F_I's own solution (0: off)",
+             d.policy.photometric_start_levels,
+             [](TrackerOptions& o, const int& v) { o.policy.photometric_start_levels = v; });
+    trust_ = add<double>("--trust",
+                         "method robust: depth trust statistic (photometric distance of the bi-objective estimate, "
+                         "in sigma_I^2) above which a level falls back to F_I alone",
+                         d.policy.trust, [](TrackerOptions& o, const double& v) { o.policy.trust = v; });
   }
   add<int>("--levels", "pyramid levels (640x480 down to 640/2^(L-1))", d.levels,
            [](TrackerOptions& o, const int& v) { o.levels = v; });
@@ -177,6 +185,7 @@ TrackerOptions TrackerFlags::options() const {
     only_for(guard_, odometry::Method::kNoiseBounded);
     only_for(joint_tolerance_, odometry::Method::kJoint);
     only_for(relaxed_tolerance_, odometry::Method::kNoiseBounded);
+    only_for(trust_, odometry::Method::kRobust);
   }
   odometry::validate(o);
   return o;

@@ -40,7 +40,7 @@ class TrackerFlags {
   std::shared_ptr<std::string> config_ = std::make_shared<std::string>();
   std::vector<Flag> flags_;
   CLI::Option *method_ = nullptr, *lambda_ = nullptr, *eps_ = nullptr, *phi_ = nullptr, *delta_ = nullptr, *eps_min_ = nullptr,
-              *eps_max_ = nullptr, *kappa_ = nullptr, *eps_ratio_ = nullptr, *guard_ = nullptr,
+              *eps_max_ = nullptr, *kappa_ = nullptr, *eps_ratio_ = nullptr, *guard_ = nullptr, *trust_ = nullptr,
               *joint_tolerance_ = nullptr, *relaxed_tolerance_ = nullptr;
 };
 
