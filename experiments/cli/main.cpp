@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   ex::add_plan_command(app);
   ex::add_work_command(app);
   ex::add_merge_command(app);
+  ex::add_loso_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
