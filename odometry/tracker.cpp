@@ -286,7 +286,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
           return run(solvers::WeightedSum(0.0));
         }
         const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
-                                                  level == options.finest_level ? options.exact_finish_iterations : 0, x);
+                                                  0, x);
         lr.relaxed = depth_distrusted = rl.distrusted;
         lr.trust = rl.statistic;
         level_lambda = rl.lambda;
