@@ -76,7 +76,7 @@ struct PolicyParameters {
   // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
   // level's bi-objective estimate is rejected for the photometric one; chosen by
   // leave-one-sequence-out (docs/odometry.md, "robust").
-  double trust = 1000.0;
+  double trust = 300.0;
   // methods joint, robust: the coarsest N levels first solve F_I alone (own t-weights) and
   // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
   // fall into the depth objective's basin at 80x60; the textureless renderings unchanged).

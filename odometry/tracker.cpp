@@ -231,7 +231,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solver_options.max_iterations = options.max_iterations;
   solver_options.step_tolerance = options.step_tolerance;
   solver_options.relative_decrease_tolerance =
-      method == Method::kJoint ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
+      uses_joint_weights(method) ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
   // method robust: once a level's depth failed the trust test, the finer levels are
   // photometric (a biased sensor is biased at every resolution).
   bool depth_distrusted = false;
@@ -286,7 +286,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
           return run(solvers::WeightedSum(0.0));
         }
         const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
-                                                  0, x);
+                                                  level == options.finest_level ? options.exact_finish_iterations : 0, x);
         lr.relaxed = depth_distrusted = rl.distrusted;
         lr.trust = rl.statistic;
         level_lambda = rl.lambda;
