@@ -5,6 +5,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -161,11 +162,12 @@ TEST(DepthTrust, FiresOnBiasedDepthAndNotOnExactDepth) {
   ASSERT_EQ(clean.levels.size(), 4u);
   for (double t : statistics[0]) EXPECT_LT(t, threshold) << "exact depth must be trusted at every level";
   EXPECT_EQ(clean.relaxed_levels, 0);
-  // At full resolution, where the statistic has the most pixels, the biased depth lies
-  // several times further from the photometric estimate than the exact one (measured:
-  // 414 exact, 1642 x1.03, 5346 radial).
-  EXPECT_GT(statistics[1].back(), threshold);
-  EXPECT_GT(statistics[2].back(), threshold);
+  // The biased statistics exceed the threshold at some level (then the test fires and
+  // latches), and at full resolution the biased depth lies several times further from the
+  // photometric estimate than the exact one (measured: 106 exact, 844 x1.03, 3493 radial).
+  const auto largest = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
+  EXPECT_GT(largest(statistics[1]), threshold);
+  EXPECT_GT(largest(statistics[2]), threshold);
   EXPECT_GT(statistics[1].back(), 3.0 * statistics[0].back());
   EXPECT_GT(statistics[2].back(), 3.0 * statistics[0].back());
   // Fired (at some level, then latched): the finest level is photometric.
