@@ -1,5 +1,6 @@
 # The README's two commands: `make demo` (main job) and `make test` (the tests).
-# Both install the Debian packages first (idempotent), then configure and build.
+# Both install the Debian packages first (`make deps`, idempotent), then configure and build;
+# `make build` alone only configures and builds.
 # Hardening (docs/reliability.md): `make sanitize` (clang, ASan + UBSan, every test) and
 # `make fuzz` (the libFuzzer targets, FUZZ_SECONDS each); CI: `make fuzz-ci` (a clang build of
 # only the fuzz targets and the readers they link, each run FUZZ_CI_SECONDS).
@@ -29,7 +30,7 @@ san_configure = cmake -S . -B $(1) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TY
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
 	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_PYTHON=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
 
-.PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz fuzz-ci
+.PHONY: deps deps-sanitizer build test demo bench clean sanitize-build sanitize fuzz fuzz-ci format-check
 
 deps:
 	bash scripts/install-deps.sh
@@ -37,15 +38,23 @@ deps:
 deps-sanitizer:
 	bash scripts/install-deps.sh --sanitizer
 
-build: deps
+build:
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 	cmake --build $(BUILD) -j$(JOBS)
 
-test: build
+test: deps
+	$(MAKE) build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-demo: build
+# The demo needs only the command line: the tests, benchmarks and Python module wait for `make test`.
+demo: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	cmake --build $(BUILD) -j$(JOBS) --target bivo
 	$(BUILD)/experiments/bivo demo --output $(DEMO_OUT)
+
+# Every tracked C++ file formatted as .clang-format says (CI runs it).
+format-check: deps-sanitizer
+	git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run -Werror
 
 bench: build
 	$(BUILD)/benchmarks/bivo_bench

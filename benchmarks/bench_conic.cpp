@@ -18,8 +18,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/synthetic_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"

@@ -15,7 +15,7 @@
 #include "odometry/reference_terms.h"
 #include "odometry/tracker.h"
 #include "solvers/pareto.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace {
 

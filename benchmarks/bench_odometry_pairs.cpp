@@ -31,7 +31,7 @@ namespace data = bivo::odometry;
 #include "odometry/sequence_tracking.h"
 #define BIVO_BENCH_STREAM 1
 #endif
-#if __has_include("odometry/rgbd_kernels.h")
+#if __has_include("odometry/kernels/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
 #define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads, (o).finest_level)
 #else
@@ -204,7 +204,7 @@ void register_cases() {
           ->Unit(benchmark::kMillisecond)
           ->Iterations(1);
     }
-    // Crawling steps extrapolated (the cap the twelfth round measured; off by default).
+    // Crawling steps extrapolated (the cap measured in docs/results/speed.md; off by default).
     for (const char* m : {"single", "weighted", "bounded"}) {
       benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + "_extrapolated" + at).c_str(),
                                    [method = std::string(m), finest](benchmark::State& state) {

@@ -1,6 +1,6 @@
 #include <benchmark/benchmark.h>
 
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 static void BM_Se3ExpLog(benchmark::State& state) {
   bivo::solvers::se3::Vector6d xi;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The paper's SOCP (eq. `SOCP in our method`) against the ECOS yardstick of issue 16.
+"""The paper's SOCP (eq. `SOCP in our method`) against the ECOS yardstick.
 
 Runs bivo_bench's BM_PaperSocp cases (make_paper_step instances: raw units, t-distribution
 weights, 10 % invalid pixels kept as zero rows, constraint active and inactive, 3 seeds per

@@ -1,6 +1,8 @@
 #include "experiments/method_matrix.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -8,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/result_table.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
@@ -33,6 +36,30 @@ std::string sequence_label(const std::string& dir) {
   return name;
 }
 
+std::vector<std::string> sequence_labels(const std::vector<std::string>& dirs) {
+  std::vector<std::string> labels;
+  for (const auto& d : dirs) labels.push_back(sequence_label(d));
+  const auto count = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::count(v.begin(), v.end(), x);
+  };
+  std::vector<std::string> out = labels;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    if (count(labels, labels[k]) < 2) continue;
+    std::error_code ec;
+    const std::string absolute = std::filesystem::weakly_canonical(std::filesystem::absolute(dirs[k]), ec).string();
+    std::uint32_t h = 2166136261u;  // FNV-1a: stable across runs and machines, unlike std::hash
+    for (const unsigned char c : (ec ? dirs[k] : absolute)) h = (h ^ c) * 16777619u;
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "~%06x", unsigned(h & 0xFFFFFFu));
+    out[k] = labels[k] + hex;
+  }
+  const std::vector<std::string> hashed = out;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    if (count(hashed, hashed[k]) > 1) out[k] = hashed[k] + "#" + std::to_string(k + 1);
+  }
+  return out;
+}
+
 void check_matrix_options(const MatrixOptions& options) {
   if (options.sequences.empty()) throw Error("no sequences given");
   if (options.methods.empty()) throw Error("no methods given");
@@ -48,7 +75,7 @@ MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequenc
   const MethodSpec& m = options.methods.at(method);
   MatrixCell cell;
   cell.sequence_dir = options.sequences.at(sequence);
-  cell.sequence = sequence_label(cell.sequence_dir);
+  cell.sequence = sequence_labels(options.sequences).at(sequence);
   cell.spec = m;
   RunRequest req;
   req.sequence_dir = cell.sequence_dir;
@@ -70,7 +97,9 @@ MatrixCell run_matrix_cell(const MatrixOptions& options, int method, int sequenc
     cell.note = "no groundtruth.txt";
   } else {
     try {
-      cell.rpe = odometry::io::relative_pose_error(*cell.run->groundtruth, cell.run->trajectory);
+      std::string why;
+      cell.rpe = rpe_if_long_enough(*cell.run->groundtruth, cell.run->trajectory, options.rpe_delta, why);
+      cell.note = why;
     } catch (const Error& e) {
       cell.note = std::string("no RPE: ") + e.what();
     }
@@ -91,7 +120,7 @@ MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCel
   }
   MethodMatrix out;
   out.methods = options.methods;
-  for (const auto& dir : options.sequences) out.sequences.push_back(sequence_label(dir));
+  out.sequences = sequence_labels(options.sequences);
   out.cells = std::move(cells);
   return out;
 }
@@ -131,7 +160,11 @@ ResultTable table_of(const MethodMatrix& m, const std::string& corner, F value, 
   t.precision = precision;
   for (int r = 0; r < int(m.methods.size()); ++r) {
     for (int c = 0; c < int(m.sequences.size()); ++c) {
-      if (const auto v = value(m.at(r, c))) t.set(r, c, *v);
+      if (const auto v = value(m.at(r, c))) {
+        t.set(r, c, *v);
+      } else if (is_too_short(m.at(r, c).note)) {
+        t.set_text(r, c, "too short");
+      }
     }
   }
   return t;

@@ -28,6 +28,7 @@ struct MatrixOptions {
   int first_frame = 0, max_frames = -1;
   int progress = -1;
   std::string trajectory_dir;               // when set: <dir>/<sequence>__<method>.txt
+  double rpe_delta = 1.0;                   // RPE window [s]
 };
 
 struct MatrixCell {
@@ -41,7 +42,7 @@ struct MatrixCell {
 };
 
 struct MethodMatrix {
-  std::vector<std::string> sequences;  // folder names, column order
+  std::vector<std::string> sequences;  // sequence_labels, column order
   std::vector<MethodSpec> methods;     // row order
   std::vector<MatrixCell> cells;       // row-major: methods x sequences
   const MatrixCell& at(int method, int sequence) const { return cells[method * sequences.size() + sequence]; }
@@ -49,6 +50,11 @@ struct MethodMatrix {
 
 // The column header of a sequence folder: its name without the "rgbd_dataset_" prefix.
 std::string sequence_label(const std::string& sequence_dir);
+// The column headers of a list of sequence folders, one per folder and all distinct, so no
+// two results share a column or an output file: sequence_label, and for folders whose labels
+// coincide (two seeds rendered as syn1/x and syn2/x) "label~" plus 6 hex digits of a hash of
+// the absolute path (and "#position" for a folder given twice).
+std::vector<std::string> sequence_labels(const std::vector<std::string>& sequence_dirs);
 
 // Throws bivo::Error when there are no sequences or methods, or a method/backend is bad
 // (checked for every method before anything runs).

@@ -7,8 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/method_matrix.h"
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
@@ -76,14 +78,15 @@ SweepRun run_sweep_unit(const SweepOptions& o, const SweepUnit& unit) {
   }
   SweepRun out;
   out.unit = unit;
-  out.sequence = std::filesystem::path(dir).filename().string();
+  out.sequence = sequence_labels(o.sequences).at(unit.sequence);  // distinct even for same-named folders
   try {
     const RunOutcome run = run_sequence(req);
-    out.sequence = run.sequence;
     if (!run.groundtruth) throw Error("sweep: sequence '" + dir + "' has no groundtruth.txt");
-    const auto rpe = odometry::io::relative_pose_error(*run.groundtruth, run.trajectory);
-    out.rpe_trans = rpe.trans_rmse;
-    out.max_err = rpe.trans_max;
+    std::string why;
+    const auto rpe = rpe_if_long_enough(*run.groundtruth, run.trajectory, o.rpe_delta, why);
+    if (!rpe) throw Error(why);
+    out.rpe_trans = rpe->trans_rmse;
+    out.max_err = rpe->trans_max;
     out.median_ms = run.median_ms;
     out.failures = run.failures;
     out.ok = true;
@@ -106,14 +109,15 @@ SweepResult assemble_sweep(const SweepOptions& o, const std::vector<SweepRun>& r
       if (r.missing) {
         out.notes.push_back(r.sequence + ": the single-objective reference was not run; its points are left out");
       } else if (!r.ok) {
-        throw Error(r.error);
+        out.notes.push_back(r.sequence + ": the single-objective reference failed (" + r.error +
+                            "); its points are left out");
       } else if (!(r.rpe_trans > 0) || !(r.max_err > 0)) {
-        throw Error("sweep: the single-objective run on '" + o.sequences.at(r.unit.sequence) +
-                    "' has zero error; ratios are undefined");
+        out.notes.push_back(r.sequence + ": the single-objective reference has zero error; ratios are undefined, "
+                            "its points are left out");
       }
       continue;
     }
-    if (!ref || ref->missing) continue;
+    if (!ref || ref->missing || !ref->ok || !(ref->rpe_trans > 0) || !(ref->max_err > 0)) continue;
     if (r.missing) {
       out.notes.push_back(ref->sequence + " " + point_name(r.unit) + ": not run");
       continue;

@@ -23,6 +23,7 @@ struct SweepOptions {
   std::string epsilon_backend;            // empty: bounded's default (exact)
   int first_frame = 0, max_frames = -1;
   int progress = -1;
+  double rpe_delta = 1.0;  // RPE window [s]
 };
 
 struct SweepPoint {
@@ -65,9 +66,9 @@ std::vector<SweepUnit> sweep_units(const SweepOptions& options);
 SweepRun run_sweep_unit(const SweepOptions& options, const SweepUnit& unit);
 
 // The sweep from the runs of sweep_units(options) (same order): ratios to each sequence's
-// reference; failed grid points become notes. Throws bivo::Error when a reference failed
-// (no ground truth, no RPE) or has zero error (the ratios would be undefined); a missing
-// reference leaves its sequence out with a note.
+// reference; failed grid points become notes. A reference that failed (no ground truth, no
+// RPE), has zero error (the ratios would be undefined) or is missing leaves its sequence's
+// points out with a note; the other sequences are written.
 SweepResult assemble_sweep(const SweepOptions& options, const std::vector<SweepRun>& runs);
 
 // Every unit in one process, then assemble_sweep.

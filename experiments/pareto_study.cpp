@@ -11,8 +11,9 @@
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/pose_error.h"
 #include "odometry/io/tum_dataset.h"
+#include "solvers/backend_registry.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::experiments {
 namespace {
@@ -56,8 +57,16 @@ std::vector<StudyPoint> front_points(const solvers::ParetoFront& front, odometry
 
 }  // namespace
 
+void check_pareto_study_options(const ParetoStudyOptions& o) {
+  if (o.points < 2 || o.points > 1000) {
+    throw Error("pareto: points per sweep must be in 2..1000, got " + std::to_string(o.points));
+  }
+  if (!o.backend.empty()) solvers::backend_info(o.backend);  // throws listing the valid names
+}
+
 ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  check_pareto_study_options(o);
   odometry::TrackerOptions base = o.tracker;
   base.method = "single";
   base.backend = "";
@@ -97,8 +106,14 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
     po.solver.step_measure = [p](const Eigen::VectorXd& x, const Eigen::VectorXd& d) { return p->pixel_motion(x, d); };
     po.solver.step_measure_tolerance = base.pixel_motion_tolerance;
   }
-  const solvers::ParetoFront lf = solvers::sweep_lambda(*problem, x0, po);
-  const solvers::ParetoFront ef = solvers::sweep_epsilon(*problem, x0, po);
+  solvers::ParetoOptions lambda_po = po, epsilon_po = po;
+  if (!o.backend.empty()) {
+    const solvers::BackendInfo& info = solvers::backend_info(o.backend);
+    if (info.weighted_sum) lambda_po.backend = o.backend;
+    if (info.epsilon_constraint) epsilon_po.backend = o.backend;
+  }
+  const solvers::ParetoFront lf = solvers::sweep_lambda(*problem, x0, lambda_po);
+  const solvers::ParetoFront ef = solvers::sweep_epsilon(*problem, x0, epsilon_po);
   study.lambda_front = front_points(lf, *problem, pair.groundtruth_T21);
   study.epsilon_front = front_points(ef, *problem, pair.groundtruth_T21);
 

@@ -23,7 +23,14 @@ struct ParetoStudyOptions {
   double lambda_min = 1.0, lambda_max = 1e7;
   std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded"};
   odometry::TrackerOptions tracker;  // levels, policy parameters, weights
+  // Solver backend of the sweeps it can solve (solvers/backend_registry.h): a weighted-sum one
+  // replaces gn in the lambda sweep, an epsilon-constraint one exact in the epsilon sweep, one
+  // that does both replaces both; empty: gn and exact. So fronts compare across backends.
+  std::string backend;
 };
+
+// Throws bivo::Error when a backend is given that solves neither sweep, or points is not in 2..1000.
+void check_pareto_study_options(const ParetoStudyOptions& options);
 
 struct StudyPoint {
   double f_i = 0, f_d = 0;

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -24,7 +25,20 @@ std::string shell_quote(const std::string& s) {
 
 std::string plots_dir() {
   if (const char* env = std::getenv("BIVO_PLOTS_DIR")) return env;
-  return BIVO_PLOTS_DIR;
+  // Installed: beside the executable (bin/../share/bivo/plots); a build tree has none there
+  // and uses the source tree's.
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path() / BIVO_PLOTS_FROM_BINDIR;
+    if (std::filesystem::is_regular_file(installed / "common.py", ec)) return installed.lexically_normal().string();
+  }
+  if (std::filesystem::is_regular_file(std::filesystem::path(BIVO_PLOTS_DIR) / "common.py", ec)) {
+    return BIVO_PLOTS_DIR;
+  }
+  throw Error("the plot scripts are neither beside bivo (" +
+              (exe.parent_path() / BIVO_PLOTS_FROM_BINDIR).lexically_normal().string() + ") nor in the source tree (" +
+              BIVO_PLOTS_DIR + "); set BIVO_PLOTS_DIR to the folder of experiments/plots/*.py, or give --no-plots");
 }
 
 void plot(const std::string& script, const std::vector<std::string>& args) {

@@ -6,7 +6,9 @@
 
 namespace bivo::experiments {
 
-// Folder of the scripts: $BIVO_PLOTS_DIR when set, else the source tree's (compile time).
+// Folder of the scripts: $BIVO_PLOTS_DIR when set, else the installed one beside the
+// executable (bin/../share/bivo/plots), else the source tree's (compile time); throws
+// bivo::Error naming the places looked at when none has them.
 std::string plots_dir();
 
 // Runs `python3 <plots_dir>/<script> args...`; throws bivo::Error with the script's exit

@@ -10,7 +10,7 @@
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
 #include "odometry/io/atomic_file.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -24,18 +24,20 @@ const std::vector<std::string> kPhases = {"pyramid", "reference", "residuals", "
 std::string runtime_table(const std::vector<ProfileRow>& rows) {
   std::ostringstream md;
   if (rows.empty() || rows.front().pairs == 0) return "";
-  const double ref = rows.front().total_ms;
+  const double ref = rows.front().median_ms;
   md << "\nRuntime per frame pair, as the paper's table 3 (single objective 15.42 ms, Tykkala 21.06, weighted "
-        "sum 22.99, bounded objective with an SOCP solver 7093 ms):\n\n| method | backend | pairs | runtime [ms] | "
-        "x single:gn | of which IPM [ms] |\n|---|---|---:|---:|---:|---:|\n";
+        "sum 22.99, bounded objective with an SOCP solver 7093 ms); median and quartiles over every pair of every "
+        "repetition, the factor on medians:\n\n| method | backend | pairs x reps | mean [ms] | median [ms] | "
+        "quartiles [ms] | x single:gn | of which IPM [ms] |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : rows) {
     if (r.pairs == 0) continue;
     double ipm = 0;
     for (const auto& [name, ms] : r.phase_ms) {
       if (name.rfind("subproblem/ipm_", 0) == 0) ipm += ms;
     }
-    md << "| " << r.method << " | " << r.backend << " | " << r.pairs << " | " << std::fixed << std::setprecision(2)
-       << r.total_ms << " | " << std::setprecision(1) << (ref > 0 ? r.total_ms / ref : 0.0) << " | ";
+    md << "| " << r.method << " | " << r.backend << " | " << r.pairs << " x " << r.repetitions << " | " << std::fixed
+       << std::setprecision(2) << r.total_ms << " | " << r.median_ms << " | " << r.q1_ms << "-" << r.q3_ms << " | "
+       << std::setprecision(3) << (ref > 0 ? r.median_ms / ref : 0.0) << " | ";
     if (ipm > 0) md << std::setprecision(2) << ipm;
     md << " |\n" << std::defaultfloat;
   }
@@ -44,25 +46,97 @@ std::string runtime_table(const std::vector<ProfileRow>& rows) {
 
 }  // namespace
 
-std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
-  std::vector<MethodSpec> methods = o.methods;
-  const bool has_reference = !methods.empty() && methods.front().method == "single" &&
-                             (methods.front().backend.empty() || methods.front().backend == "gn");
-  if (!has_reference) methods.insert(methods.begin(), MethodSpec{"single", "gn"});
-  for (const auto& m : methods) {
-    odometry::TrackerOptions t = o.tracker;
-    t.method = m.method;
-    t.backend = m.backend;
-    odometry::validate(t);
+namespace {
+
+// The value below which a fraction q of the sorted values lie (linear interpolation).
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double at = q * double(v.size() - 1);
+  const std::size_t lo = std::size_t(at);
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (at - double(lo)) * (v[hi] - v[lo]);
+}
+
+// One method's row from its runs (one per repetition; every run holds the same pairs and
+// results, only their times differ) and the reference's pairs (empty for the reference).
+ProfileRow row_of(ProfileRow row, const std::vector<RunOutcome>& runs, const std::vector<odometry::PairResult>& reference,
+                  bool is_reference, int levels) {
+  if (runs.empty()) return row;
+  std::vector<double> pair_ms;
+  for (const auto& run : runs) {
+    for (const auto& p : run.pairs) pair_ms.push_back(1000.0 * p.seconds);
   }
-  std::vector<ProfileRow> rows;
-  std::vector<odometry::PairResult> reference;
+  row.pairs = int(runs.front().pairs.size());
+  row.repetitions = int(runs.size());
+  const double n = double(pair_ms.size());
+  double total = 0;
+  for (double ms : pair_ms) total += ms;
+  row.total_ms = total / n;
+  row.median_ms = quantile(pair_ms, 0.5);
+  row.q1_ms = quantile(pair_ms, 0.25);
+  row.q3_ms = quantile(pair_ms, 0.75);
+  for (const auto& phase : kPhases) row.phase_ms[phase] = 0.0;
+  // Phases recorded under other names (a backend's own) are kept too.
+  for (const auto& run : runs) {
+    for (const auto& p : run.pairs) {
+      for (const auto& [name, sec] : p.profile.all()) row.phase_ms[name] += 1000.0 * sec / n;
+    }
+  }
+  const std::vector<odometry::PairResult>& pairs = runs.front().pairs;
+  const double np = double(pairs.size());
+  row.iterations_per_level.assign(levels, 0.0);
+  std::vector<double> gap(levels, 0.0), ratio(levels, 0.0);
+  std::vector<int> gap_n(levels, 0);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    for (const auto& lr : pairs[k].levels) {
+      if (lr.level < 0 || lr.level >= levels) continue;
+      row.iterations_per_level[lr.level] += lr.iterations / np;
+      if (is_reference || k >= reference.size() || lr.skipped) continue;
+      for (const auto& ref : reference[k].levels) {
+        if (ref.level == lr.level && !ref.skipped && ref.f_i > 0 && ref.f_d > 0) {
+          gap[lr.level] += (lr.f_i - ref.f_i) / ref.f_i;
+          ratio[lr.level] += lr.f_d / ref.f_d;
+          ++gap_n[lr.level];
+        }
+      }
+    }
+  }
+  if (!is_reference) {
+    for (int l = 0; l < levels; ++l) {
+      row.f_i_gap.push_back(gap_n[l] ? gap[l] / gap_n[l] : 0.0);
+      row.f_d_ratio.push_back(gap_n[l] ? ratio[l] / gap_n[l] : 0.0);
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
+std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
+  if (o.repetitions < 1 || o.repetitions > 100) {
+    throw Error("profile: repetitions must be in 1..100, got " + std::to_string(o.repetitions));
+  }
+  std::vector<MethodSpec> methods = o.methods;
+  // The reference is single with Gauss-Newton: moved to the front when listed, added when not,
+  // so it is timed and printed once.
+  const auto is_reference = [](const MethodSpec& m) {
+    return m.method == "single" && (m.backend.empty() || m.backend == "gn");
+  };
+  const auto listed = std::find_if(methods.begin(), methods.end(), is_reference);
+  if (listed == methods.end()) {
+    methods.insert(methods.begin(), MethodSpec{"single", "gn"});
+  } else {
+    std::rotate(methods.begin(), listed, listed + 1);
+  }
+  std::vector<RunRequest> requests;
   for (const auto& m : methods) {
     RunRequest req;
     req.sequence_dir = o.sequence_dir;
     req.tracker = o.tracker;
     req.tracker.method = m.method;
     req.tracker.backend = m.backend;
+    odometry::validate(req.tracker);
     req.tracker.evaluate_unused_objective = true;  // single's F_D is the reference of the F_D ratio
     req.first_frame = o.first_frame;
     req.max_frames = o.max_frames;
@@ -70,61 +144,40 @@ std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
       req.max_frames = o.max_frames > 0 ? std::min(o.max_frames, o.socp_max_frames) : o.socp_max_frames;
     }
     req.progress = o.progress;
+    requests.push_back(req);
+  }
+  // Untimed warm-up: the first run pays for the page cache, the allocator and the thread
+  // pools, which made the reference (always first) look slower than itself.
+  try {
+    run_sequence(requests.front());
+  } catch (const Error&) {
+    // its error is reported by the timed runs below
+  }
+  // Repetitions with the methods' order rotated, so no method is always first or last.
+  const std::size_t m = methods.size();
+  std::vector<std::vector<RunOutcome>> runs(m);
+  std::vector<std::string> notes(m);
+  for (int r = 0; r < o.repetitions; ++r) {
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::size_t k = (i + std::size_t(r)) % m;
+      if (!notes[k].empty()) continue;
+      try {
+        runs[k].push_back(run_sequence(requests[k]));
+      } catch (const Error& e) {
+        notes[k] = e.what();
+      }
+    }
+  }
+  std::vector<ProfileRow> rows;
+  const std::vector<odometry::PairResult> reference =
+      runs.front().empty() ? std::vector<odometry::PairResult>{} : runs.front().front().pairs;
+  for (std::size_t k = 0; k < m; ++k) {
     ProfileRow row;
-    row.method = m.method;
-    row.backend = effective_backend(req.tracker);
-    RunOutcome run;
-    try {
-      run = run_sequence(req);
-    } catch (const Error& e) {
-      row.note = e.what();
-      rows.push_back(row);
-      continue;
-    }
-    row.pairs = int(run.pairs.size());
-    const double n = row.pairs;
-    double total = 0;
-    for (const auto& p : run.pairs) total += p.seconds;
-    row.total_ms = 1000.0 * total / n;
-    for (const auto& phase : kPhases) {
-      double s = 0;
-      for (const auto& p : run.pairs) s += p.profile.seconds(phase);
-      row.phase_ms[phase] = 1000.0 * s / n;
-    }
-    // Phases recorded under other names (a backend's own) are kept too.
-    for (const auto& p : run.pairs) {
-      for (const auto& [name, sec] : p.profile.all()) {
-        if (!row.phase_ms.count(name) || std::find(kPhases.begin(), kPhases.end(), name) == kPhases.end()) {
-          row.phase_ms[name] += 1000.0 * sec / n;
-        }
-      }
-    }
-    row.iterations_per_level.assign(o.tracker.levels, 0.0);
-    std::vector<double> gap(o.tracker.levels, 0.0), ratio(o.tracker.levels, 0.0);
-    std::vector<int> gap_n(o.tracker.levels, 0);
-    for (size_t k = 0; k < run.pairs.size(); ++k) {
-      for (const auto& lr : run.pairs[k].levels) {
-        if (lr.level < 0 || lr.level >= o.tracker.levels) continue;
-        row.iterations_per_level[lr.level] += lr.iterations / n;
-        if (rows.empty() || k >= reference.size() || lr.skipped) continue;
-        for (const auto& ref : reference[k].levels) {
-          if (ref.level == lr.level && !ref.skipped && ref.f_i > 0 && ref.f_d > 0) {
-            gap[lr.level] += (lr.f_i - ref.f_i) / ref.f_i;
-            ratio[lr.level] += lr.f_d / ref.f_d;
-            ++gap_n[lr.level];
-          }
-        }
-      }
-    }
-    if (!rows.empty()) {
-      for (int l = 0; l < o.tracker.levels; ++l) {
-        row.f_i_gap.push_back(gap_n[l] ? gap[l] / gap_n[l] : 0.0);
-        row.f_d_ratio.push_back(gap_n[l] ? ratio[l] / gap_n[l] : 0.0);
-      }
-    } else {
-      reference = run.pairs;
-    }
-    rows.push_back(row);
+    row.method = methods[k].method;
+    row.backend = effective_backend(requests[k].tracker);
+    row.note = notes[k];
+    rows.push_back(row_of(row, notes[k].empty() ? runs[k] : std::vector<RunOutcome>{}, reference, k == 0,
+                          o.tracker.levels));
   }
   return rows;
 }
@@ -183,6 +236,7 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
     md << std::defaultfloat;
     j.push_back({{"method", r.method}, {"backend", r.backend}, {"pairs", r.pairs}, {"total_ms", r.total_ms},
                  {"phase_ms", r.phase_ms}, {"iterations_per_level", r.iterations_per_level},
+                 {"median_ms", r.median_ms}, {"q1_ms", r.q1_ms}, {"q3_ms", r.q3_ms}, {"repetitions", r.repetitions},
                  {"f_i_gap_per_level", r.f_i_gap}, {"f_d_ratio_per_level", r.f_d_ratio}, {"note", r.note},
                  {"kernels", kernels}});
   }

@@ -19,7 +19,9 @@ namespace bivo::experiments {
 struct ProfileRow {
   std::string method, backend;
   int pairs = 0;
-  double total_ms = 0;                          // mean per pair
+  int repetitions = 0;                          // timed runs of the window
+  double total_ms = 0;                          // mean per pair (over every pair of every repetition)
+  double median_ms = 0, q1_ms = 0, q3_ms = 0;   // median and quartiles of the same times
   std::map<std::string, double> phase_ms;       // mean per pair
   std::vector<double> iterations_per_level;     // [level], mean over pairs (coarse levels last)
   std::vector<double> f_i_gap, f_d_ratio;       // [level] vs single/gn; empty for single itself
@@ -28,12 +30,17 @@ struct ProfileRow {
 
 struct ProfileOptions {
   std::string sequence_dir;
-  std::vector<MethodSpec> methods;  // "single" with gn is added first when missing (the reference)
+  // "single" with gn is the reference: moved first when listed, added first when missing.
+  std::vector<MethodSpec> methods;
   odometry::TrackerOptions tracker;
   int first_frame = 0, max_frames = 30;
   // Frames for the interior-point SOCP backends (bounded:ipm-*), which cost seconds per pair
   // at VGA; 0 = max_frames. Their per-pair means are over these first frames.
   int socp_max_frames = 5;
+  // After one untimed warm-up run, every method's window is timed this many times, the
+  // methods' order rotated each time (no method always first), so a phase of machine load or
+  // a cold cache is shared out instead of falling on one method.
+  int repetitions = 3;
   int progress = -1;
 };
 

@@ -11,8 +11,8 @@
 
 #include "experiments/paper_claims.h"
 #include "experiments/plotting.h"
-#include "experiments/study_merge.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_merge.h"
+#include "experiments/study/study_plan.h"
 #include "experiments/tracker_config.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/tum_dataset.h"

@@ -11,6 +11,7 @@ namespace bivo::experiments {
 ResultTable::ResultTable(std::string corner_, std::vector<std::string> rows_, std::vector<std::string> columns_)
     : corner(std::move(corner_)), rows(std::move(rows_)), columns(std::move(columns_)) {
   values.assign(rows.size(), std::vector<std::optional<double>>(columns.size()));
+  texts.assign(rows.size(), std::vector<std::string>(columns.size()));
 }
 
 void ResultTable::set(int row, int column, double value) {
@@ -19,6 +20,8 @@ void ResultTable::set(int row, int column, double value) {
   }
   values.at(row).at(column) = value;
 }
+
+void ResultTable::set_text(int row, int column, std::string text) { texts.at(row).at(column) = std::move(text); }
 
 int ResultTable::best_row(int column) const {
   int best = -1;
@@ -41,7 +44,7 @@ std::string ResultTable::markdown() const {
     for (int c = 0; c < int(columns.size()); ++c) {
       const auto& v = values[r][c];
       if (!v) {
-        s << " — |";
+        s << " " << (texts[r][c].empty() ? "—" : texts[r][c]) << " |";
         continue;
       }
       std::ostringstream num;

@@ -30,6 +30,8 @@ odometry::TrackerOptions tracker_options_from_json(const nlohmann::json& j, cons
                                                    const odometry::TrackerOptions& base = {});
 
 odometry::TrackerOptions read_tracker_config(const std::string& path, const odometry::TrackerOptions& base = {});
+// Whether the file (read by read_tracker_config without error) has a "method" key.
+bool tracker_config_names_method(const std::string& path);
 // Written atomically, pretty-printed.
 void write_tracker_config(const std::string& path, const odometry::TrackerOptions& options);
 

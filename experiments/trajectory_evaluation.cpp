@@ -1,6 +1,8 @@
 // `bivo eval`'s engine (trajectory_evaluation.h).
 #include "experiments/trajectory_evaluation.h"
 
+#include <cstdio>
+
 #include <iomanip>
 #include <sstream>
 
@@ -28,6 +30,27 @@ TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, c
   e.ate = odometry::io::absolute_trajectory_error(gt, est, ao);
   return e;
 }
+
+std::optional<odometry::io::RpeResult> rpe_if_long_enough(const odometry::io::Trajectory& groundtruth,
+                                                         const odometry::io::Trajectory& estimate, double delta_s,
+                                                         std::string& why) {
+  // Windows start at every estimate stamp that has one delta_s later inside the estimate.
+  int windows = 0;
+  for (const auto& p : estimate) windows += estimate.empty() || p.timestamp + delta_s <= estimate.back().timestamp;
+  if (windows < 2) {
+    const double span = estimate.empty() ? 0.0 : estimate.back().timestamp - estimate.front().timestamp;
+    char text[200];
+    std::snprintf(text, sizeof text, "too short: the run spans %.3g s, fewer than 2 RPE windows of %g s (--delta)",
+                  span, delta_s);
+    why = text;
+    return std::nullopt;
+  }
+  odometry::io::RpeOptions ro;
+  ro.delta_s = delta_s;
+  return odometry::io::relative_pose_error(groundtruth, estimate, ro);
+}
+
+bool is_too_short(const std::string& why) { return why.rfind("too short", 0) == 0; }
 
 nlohmann::json evaluation_json(const TrajectoryEvaluation& e) {
   nlohmann::json j;

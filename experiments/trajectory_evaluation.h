@@ -1,6 +1,7 @@
 #pragma once
 // Evaluation of one estimated trajectory against ground truth, as `bivo eval` reports it:
 // TUM RPE over windows of delta seconds and ATE (odometry/io/metrics.h, docs/metrics.md).
+#include <optional>
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>
@@ -19,6 +20,15 @@ struct TrajectoryEvaluation {
 // Reads both TUM trajectories and evaluates them (bivo::Error names a bad file/line).
 TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, const std::string& estimate,
                                                double delta_s = 1.0, double max_dt = 0.02);
+
+// The RPE of a run over windows of delta_s seconds, or nullopt with `why` = "too short: ..."
+// when the estimate spans fewer than the two windows RPE needs (a short run is a result to
+// show, not an error); other failures (no overlap with the ground truth) throw bivo::Error.
+std::optional<odometry::io::RpeResult> rpe_if_long_enough(const odometry::io::Trajectory& groundtruth,
+                                                         const odometry::io::Trajectory& estimate, double delta_s,
+                                                         std::string& why);
+// Whether a note or error says "too short" (rpe_if_long_enough).
+bool is_too_short(const std::string& why);
 
 // Every statistic and every RPE window (the file of `bivo eval --output`).
 nlohmann::json evaluation_json(const TrajectoryEvaluation& e);

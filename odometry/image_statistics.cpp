@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 
 namespace bivo::odometry {
 namespace {

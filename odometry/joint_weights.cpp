@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 
 namespace bivo::odometry {
 

@@ -17,7 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 #include "odometry/robust_weights.h"
 
 namespace bivo::odometry {

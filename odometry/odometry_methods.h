@@ -51,7 +51,7 @@ bool uses_joint_weights(Method method);
 // "gn" for the weighted-sum methods, "exact" for bounded.
 std::string default_backend(Method method);
 
-// Defaults chosen by the sweep documented in docs/odometry.md ("Choosing the defaults").
+// Defaults chosen by the sweeps of docs/results/defaults.md.
 struct PolicyParameters {
   double lambda = 1e5;          // method fixed [gray^2 / m^2]
   double phi = 100.0;           // method weighted: the adjustable constant of eq. `eq to calculate lambda`

@@ -5,7 +5,7 @@
 #include <limits>
 #include <optional>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 
 namespace bivo::odometry {
 namespace {

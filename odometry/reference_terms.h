@@ -14,8 +14,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "odometry/pooled_floats.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 #include "odometry/rgbd_pyramid.h"
 
 namespace bivo::odometry {

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "odometry/parallel_chunks.h"
-#include "odometry/rgbd_double_path.h"
+#include "odometry/kernels/kernels.h"
+#include "odometry/residual_definition.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry {
 namespace {

@@ -15,7 +15,7 @@
 // Two implementations of the same formulas: linearize() / evaluate() run the float SIMD
 // kernels over structure-of-arrays buffers (rgbd_kernels.h; pose-independent data once per
 // level, reference_terms.h), residuals() and the full data of want_full the double path
-// (rgbd_double_path.h) that the finite-difference tests check. The reference and current
+// (residual_definition.h) that the finite-difference tests check. The reference and current
 // levels must outlive the problem.
 #include <array>
 #include <optional>
@@ -24,10 +24,10 @@
 
 #include "odometry/joint_weights.h"
 #include "odometry/reference_terms.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 #include "odometry/robust_weights.h"
 #include "odometry/rgbd_pyramid.h"
-#include "solvers/manifold.h"
+#include "solvers/geometry/manifold.h"
 #include "solvers/problem.h"
 
 namespace bivo::odometry {

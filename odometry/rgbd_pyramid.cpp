@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {

@@ -6,7 +6,7 @@
 
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/tum_dataset.h"
-#include "odometry/pooled_floats.h"
+#include "odometry/kernels/kernels.h"
 
 namespace bivo::odometry {
 

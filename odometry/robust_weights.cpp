@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/kernels.h"
 
 namespace bivo::odometry {
 

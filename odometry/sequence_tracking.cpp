@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "odometry/io/frame_stream.h"
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry {

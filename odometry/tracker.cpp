@@ -19,7 +19,7 @@
 #include "solvers/error.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry {
 namespace {

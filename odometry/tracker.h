@@ -70,8 +70,7 @@ struct TrackerOptions {
   double pixel_motion_tolerance = 0.0;
   // Largest factor a crawling Gauss-Newton step may be extrapolated by
   // (solvers::SolverOptions::max_step_extrapolation; 1 = off, the default: it cuts
-  // iterations but moves the synthetic scenes' RPE by more than the 2 % issue 14 allows;
-  // docs/odometry.md "Twelfth round").
+  // iterations but moves the synthetic scenes' RPE by more than 2 %; docs/results/speed.md).
   double step_extrapolation = 1.0;
   // With reference-side gradients (Jacobian inverse or esm: joint's default) the Gauss-Newton
   // fixed point is that of an approximate Jacobian, not the cost's stationary point; N > 0
@@ -98,16 +97,14 @@ struct TrackerOptions {
   // track_sequence loads (decodes, undistorts) the next frame on a thread of its own while it
   // tracks a pair (io/frame_stream.h): the same results, a fr1/rpy run at one thread in 0.64x
   // (640x480) / 0.82x (320x240) the wall time. A pair's CPU time excludes the loader's, but
-  // the decoder's memory traffic adds ~3-4 % to it at 320x240 (docs/odometry.md, "Eighth
-  // round"), and with threads >= 2 the loader takes turns with the per-pixel workers on the
-  // cores. false: frames load between pairs, on the calling thread.
+  // the decoder's memory traffic adds ~3-4 % to it at 320x240, and with threads >= 2 the
+  // loader takes turns with the per-pixel workers on the cores. false: frames load between pairs, on the calling thread.
   bool prefetch_frames = true;
   // With prefetch_frames: loader threads, each decoding a frame of its own, so up to this many
   // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~17 ms per
   // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240): two finish a
   // run sooner, but where they share the cores with the tracker they stretch every pair's
-  // wall time, which `bivo profile` and the runtime tables report (docs/odometry.md,
-  // "Eleventh round"). 0 = auto: two when the processors this process may run on have a core
+  // wall time, which `bivo profile` and the runtime tables report (docs/faq.md). 0 = auto: two when the processors this process may run on have a core
   // for each beside the per-pixel threads, else one (load_threads_for()). Results do not
   // depend on it.
   int load_threads = 0;

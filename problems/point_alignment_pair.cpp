@@ -3,7 +3,7 @@
 #include <random>
 
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::problems {
 

@@ -9,7 +9,7 @@
 #include "experiments/trajectory_evaluation.h"
 #include "odometry/io/metrics.h"
 #include "python/bindings.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::python {
 namespace {

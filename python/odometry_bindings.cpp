@@ -11,12 +11,13 @@
 #include <pybind11/stl.h>
 
 #include "experiments/tracker_config.h"
+#include "experiments/tracker_option_table.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/io/tum_dataset.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/tracker.h"
 #include "python/bindings.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::python {
 namespace {
@@ -24,11 +25,53 @@ namespace {
 using namespace odometry;
 using solvers::se3::to_ambient;
 
-// Keyword arguments -> TrackerOptions through the strict JSON reader: unknown keys and
-// out-of-range values are bivo.Error naming the key ("tracker options: policy.phi: ...").
+// Keyword arguments -> TrackerOptions through the tracker option table: a keyword is a
+// top-level key of the configuration (levels=3, policy={"phi": 50}) or an option's flat
+// Python name (phi=50, nu=3); both are checked by the code that checks files and flags, so
+// unknown keys and out-of-range values are bivo.Error naming the key
+// ("tracker options: problem.weights.nu: -2 is outside (0, inf]").
 TrackerOptions options_of(const py::kwargs& kwargs) {
   const std::string text = py::module_::import("json").attr("dumps")(kwargs).cast<std::string>();
-  return experiments::tracker_options_from_json(nlohmann::json::parse(text), "tracker options");
+  const nlohmann::json given = nlohmann::json::parse(text);
+  nlohmann::json config = nlohmann::json::object();
+  nlohmann::json flat = nlohmann::json::object();
+  const nlohmann::json top = experiments::tracker_options_to_json({});
+  for (auto it = given.begin(); it != given.end(); ++it) {
+    const bool top_level = top.contains(it.key());
+    const experiments::TrackerOption* option = experiments::find_tracker_option_by_python_name(it.key());
+    if (top_level || !option) {
+      config[it.key()] = it.value();
+    } else {
+      flat[option->key] = it.value();
+    }
+  }
+  TrackerOptions o = experiments::tracker_options_from_json(config, "tracker options");
+  for (auto it = flat.begin(); it != flat.end(); ++it) {
+    try {
+      experiments::apply_tracker_option(*experiments::find_tracker_option_by_key(it.key()), it.value(), o);
+    } catch (const Error& e) {
+      throw Error(std::string("tracker options: ") + e.what());
+    }
+  }
+  try {
+    validate(o);
+  } catch (const Error& e) {
+    throw Error(std::string("tracker options: ") + e.what());
+  }
+  return o;
+}
+
+// The table as Python sees it: one dict per option.
+py::list option_table() {
+  py::list rows;
+  const TrackerOptions defaults;
+  for (const auto& o : experiments::tracker_option_table()) {
+    const std::string d = o.get(defaults).dump();
+    rows.append(py::dict(py::arg("key") = o.key, py::arg("python_name") = o.python_name(), py::arg("flag") = o.flag,
+                         py::arg("range") = o.range_text(), py::arg("method") = o.method, py::arg("help") = o.help,
+                         py::arg("default") = py::module_::import("json").attr("loads")(d)));
+  }
+  return rows;
 }
 
 struct PyFramePair {
@@ -71,6 +114,8 @@ void bind_odometry(py::module_& m) {
     const std::string text = experiments::tracker_options_to_json(options_of(kwargs)).dump();
     return py::module_::import("json").attr("loads")(text);
   }, "The complete tracker configuration (a dict) that these keyword arguments give.");
+  om.def("tracker_option_table", &option_table,
+         "Every tracker option: JSON key, Python keyword, flag of `bivo run`, valid range, method, help, default.");
 
   py::class_<LevelResult>(om, "LevelResult")
       .def_readonly("level", &LevelResult::level)

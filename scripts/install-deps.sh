@@ -33,9 +33,9 @@ PACKAGES=(
   munge
 )
 # clang for the sanitizer build (ASan + UBSan) and the libFuzzer targets (`make sanitize`,
-# `make fuzz`, CI's `make fuzz-ci`).
+# `make fuzz`, CI's `make fuzz-ci`), and clang-format for `make format-check` (same LLVM).
 if [ "${1:-}" = "--sanitizer" ]; then
-  PACKAGES+=(clang libclang-rt-14-dev)
+  PACKAGES+=(clang libclang-rt-14-dev clang-format)
 fi
 
 missing_in() {

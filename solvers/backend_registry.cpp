@@ -4,13 +4,12 @@
 
 #include <sstream>
 
-#include "solvers/ceres_backend.h"
+#include "solvers/whole/ceres_backend.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/gauss_newton.h"
 #include "solvers/step/levenberg_marquardt.h"
-// ---- conic/NLP backend headers (issue 5): added by their owner ----
-#include "solvers/ipopt_nlp_backend.h"
+#include "solvers/whole/ipopt_nlp_backend.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"
 #include "solvers/step/ipopt_qcqp_backend.h"
@@ -57,7 +56,6 @@ std::vector<BackendInfo> build_registry() {
   r.push_back(whole_problem_backend(
       "ceres", "Ceres trust region on F1 + lambda F2 as one problem over the manifold",
       [] { return make_ceres_backend(); }));
-  // ---- conic/NLP backends (issue 5): registered by their owner ----
   r.push_back(step_backend<IpmFullBackend>(
       "ipm-full", "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of dimension n+1, active-set Newton polish"));
   r.push_back(step_backend<IpmCompressedBackend>(

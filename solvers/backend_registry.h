@@ -8,11 +8,11 @@
 //   lm              step           weighted sum         Levenberg-Marquardt (Marquardt scaling)
 //   exact           step           epsilon-constraint   exact one-constraint QCQP step, eq. `QCQP`
 //   ceres           whole problem  weighted sum         Ceres trust region over the manifold
-//   ipm-full        step           epsilon-constraint   (issue 5) own IPM on eq. `SOCP in our method`
-//   ipm-compressed  step           epsilon-constraint   (issue 5) own IPM, cones compressed to dimension 7
-//   ipopt           step           epsilon-constraint   (issue 5) Ipopt on the QCQP step
-//   nlopt           step           epsilon-constraint   (issue 5) NLopt SLSQP on the QCQP step
-//   ipopt-nlp       whole problem  epsilon-constraint   (issue 5) Ipopt on eq. `bounded objective form`
+//   ipm-full        step           epsilon-constraint   own IPM on eq. `SOCP in our method`
+//   ipm-compressed  step           epsilon-constraint   own IPM, cones compressed to dimension 7
+//   ipopt           step           epsilon-constraint   Ipopt on the QCQP step
+//   nlopt           step           epsilon-constraint   NLopt SLSQP on the QCQP step
+//   ipopt-nlp       whole problem  epsilon-constraint   Ipopt on eq. `bounded objective form`
 #include <functional>
 #include <memory>
 #include <string>

@@ -48,7 +48,7 @@ struct ParetoOptions {
   // linearization would need a new residual pass). Each point is still a solve of its own
   // weighted sum to the same tolerances; only its starting point differs. With a robust
   // (IRLS) problem, whose iterations contract linearly, it took the level-0 sweep of
-  // fr1/desk from 58 to 43 iterations (docs/odometry.md "Speed", fourth round).
+  // fr1/desk from 58 to 43 iterations.
   bool secant_predictor = true;
 };
 

@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "solvers/manifold.h"
+#include "solvers/geometry/manifold.h"
 #include "solvers/profiling.h"
 
 namespace bivo::solvers {

@@ -2,19 +2,26 @@
 """The layout and layer rules of docs/architecture.md, checked on every ctest run.
 
 1. Includes of the project's own headers point only downward:
-     solvers (incl. conic/, step/)          -> solvers
+     solvers/geometry                       -> solvers/geometry, solvers/error.h
+     solvers/conic (the IPM alone)          -> solvers/conic, solvers/error.h, solvers/profiling.h
+     solvers (incl. step/, whole/)          -> solvers
      problems                               -> problems, solvers
-     odometry/io                            -> odometry/io, solvers
-     odometry/synth                         -> odometry/synth, odometry/io, solvers
+     odometry/io                            -> odometry/io, solvers/geometry, solvers/error.h
+     odometry/synth                         -> odometry/synth, odometry/io, solvers/geometry, solvers/error.h
+     odometry/kernels                       -> odometry/kernels, odometry/weight_model.h, solvers/error.h
      odometry (the instance)                -> odometry, odometry/io, solvers
-     experiments (engines)                  -> experiments, odometry/*, problems, solvers
+     experiments (engines, study/)          -> experiments, odometry/*, problems, solvers
+     experiments/conic_files                -> experiments/conic_files, odometry/io, solvers/conic, solvers/error.h
      experiments/cli                        -> experiments/cli, experiments, odometry/*, problems, solvers
      python (the bindings)                  -> python, experiments, odometry/*, problems, solvers
-   (nothing includes python/: the bindings are the top layer),
-   and the engines never include CLI11 (only the front ends parse flags).
+   (nothing includes python/: the bindings are the top layer), the engines never include
+   CLI11 (only the front ends parse flags), and outside odometry/kernels/ the kernels are
+   reached through odometry/kernels/kernels.h alone (the lanes, kernel templates, pools and
+   chunk loops stay behind it).
 2. The namespace of a layer's files follows its folder (bivo::odometry::io, ...); plain
    `bivo` holds only the project-wide error type.
-3. No source file is longer than 500 lines.
+3. A source file longer than 500 lines is an error unless LONG_FILES names it with the reason
+   (then a warning): split files by concept, not by size.
 
 Usage: check_layout.py REPOSITORY_ROOT  (or --self-test: plants one violation of each kind). Prints every violation with file:line; exit 1 if any.
 """
@@ -23,18 +30,28 @@ import re
 import sys
 
 MAX_LINES = 500
+# Files allowed past MAX_LINES, each with why it is one concept: {path: reason}.
+LONG_FILES = {}
 
 # (folder, allowed include prefixes, namespace its files open). Longest folder match wins.
 LAYERS = [
     ("solvers", ["solvers/"], "bivo::solvers"),
+    ("solvers/geometry", ["solvers/geometry/", "solvers/error.h"], "bivo::solvers"),
+    ("solvers/conic", ["solvers/conic/", "solvers/error.h", "solvers/profiling.h"], "bivo::solvers"),
     ("problems", ["problems/", "solvers/"], "bivo::problems"),
-    ("odometry/io", ["odometry/io/", "solvers/"], "bivo::odometry::io"),
-    ("odometry/synth", ["odometry/synth/", "odometry/io/", "solvers/"], "bivo::odometry::synth"),
+    ("odometry/io", ["odometry/io/", "solvers/geometry/", "solvers/error.h"], "bivo::odometry::io"),
+    ("odometry/synth", ["odometry/synth/", "odometry/io/", "solvers/geometry/", "solvers/error.h"],
+     "bivo::odometry::synth"),
+    ("odometry/kernels", ["odometry/kernels/", "odometry/weight_model.h", "solvers/error.h"], "bivo::odometry"),
     ("odometry", ["odometry/", "solvers/"], "bivo::odometry"),
     ("experiments", ["experiments/", "odometry/", "problems/", "solvers/"], "bivo::experiments"),
+    ("experiments/conic_files", ["experiments/conic_files/", "odometry/io/", "solvers/conic/", "solvers/error.h"],
+     "bivo::experiments"),
     ("experiments/cli", ["experiments/", "odometry/", "problems/", "solvers/"], "bivo::experiments::cli"),
     ("python", ["python/", "experiments/", "odometry/", "problems/", "solvers/"], "bivo::python"),
 ]
+KERNELS = "odometry/kernels/"
+KERNELS_INTERFACE = "odometry/kernels/kernels.h"
 SOURCE_SUFFIXES = {".h", ".cpp", ".py", ".sh"}
 SOURCE_FOLDERS = ["solvers", "problems", "odometry", "experiments", "python", "tests", "benchmarks", "scripts",
                   "examples"]
@@ -53,8 +70,10 @@ def layer_of(rel):
 def include_allowed(folder, allowed, target):
     if not any(target.startswith(p) for p in allowed):
         return False
+    if target.startswith(KERNELS) and folder != "odometry/kernels" and target != KERNELS_INTERFACE:
+        return False  # the kernels' private headers
     # odometry/ allows odometry/*, but io and synth may not reach the instance or each other.
-    if folder in ("odometry/io", "odometry/synth") and target.startswith("odometry/"):
+    if folder in ("odometry/io", "odometry/synth", "odometry/kernels") and target.startswith("odometry/"):
         return any(target.startswith(p) for p in allowed if p.startswith("odometry/"))
     if folder == "odometry" and target.startswith("odometry/synth/"):
         return False  # the instance does not render
@@ -69,7 +88,11 @@ def check(root):
         rel = path.relative_to(root).as_posix()
         text = path.read_text(errors="replace").splitlines()
         if len(text) > MAX_LINES:
-            problems.append(f"{rel}: {len(text)} lines (more than {MAX_LINES}): split it by concern")
+            if rel in LONG_FILES:
+                print(f"warning: {rel}: {len(text)} lines (allowed: {LONG_FILES[rel]})")
+            else:
+                problems.append(f"{rel}: {len(text)} lines (more than {MAX_LINES}): split it by concept, "
+                                "or name it in LONG_FILES with the reason")
         layer = layer_of(rel)
         if layer is None or path.suffix not in (".h", ".cpp"):
             continue
@@ -87,7 +110,7 @@ def check(root):
             # Plain `bivo` is the project-wide error type (solvers/error.h).
             if m and m.group(1).startswith("bivo") and m.group(1) not in (ns, "bivo"):
                 # solvers/conic etc. may nest deeper (bivo::solvers::conic).
-                if not (folder == "solvers" and m.group(1).startswith(ns + "::")):
+                if not (folder.startswith("solvers") and m.group(1).startswith(ns + "::")):
                     problems.append(f"{rel}:{no}: namespace {m.group(1)}, but files of {folder}/ use {ns}")
     return files, problems
 
@@ -103,15 +126,20 @@ def self_test():
             "experiments/c.cpp": "#include <CLI/CLI.hpp>\nnamespace bivo::experiments {\n}\n",
             "odometry/synth/d.cpp": "namespace bivo::odometry {\n}\n",
             "solvers/e.cpp": "\n" * (MAX_LINES + 1),
-            "odometry/f.cpp": '#include "odometry/io/png_io.h"\n#include "solvers/se3.h"\n',  # fine
+            "odometry/f.cpp": '#include "odometry/io/png_io.h"\n#include "solvers/geometry/se3.h"\n',  # fine
             "experiments/g.cpp": '#include "python/bindings.h"\n',
+            "odometry/h.cpp": '#include "odometry/kernels/simd_lanes.h"\n#include "odometry/kernels/kernels.h"\n',
+            "odometry/kernels/i.cpp": '#include "odometry/tracker.h"\n#include "odometry/weight_model.h"\n',
+            "odometry/io/j.cpp": '#include "solvers/conic/ipm_solver.h"\n#include "solvers/geometry/se3.h"\n',
+            "solvers/conic/k.cpp": '#include "solvers/problem.h"\n',
         }
         for rel, text in bad.items():
             (root / rel).parent.mkdir(parents=True, exist_ok=True)
             (root / rel).write_text(text)
         _, problems = check(root)
         expected = ["odometry/io/a.h:1", "odometry/b.cpp:1", "experiments/c.cpp:1", "odometry/synth/d.cpp:1",
-                    "solvers/e.cpp:", "experiments/g.cpp:1"]
+                    "solvers/e.cpp:", "experiments/g.cpp:1", "odometry/h.cpp:1", "odometry/kernels/i.cpp:1",
+                    "odometry/io/j.cpp:1", "solvers/conic/k.cpp:1"]
         missing = [e for e in expected if not any(p.startswith(e) for p in problems)]
         extra = [p for p in problems if p.startswith("odometry/f.cpp")]
         if missing or extra or len(problems) != len(expected):

@@ -1,4 +1,4 @@
-// The CBF reader (experiments/cbf_file.h) on hand-written instances whose optima are known in
+// The CBF reader (experiments/conic_files/cbf_file.h) on hand-written instances whose optima are known in
 // closed form (one per cone kind, in VAR and in CON, MIN and MAX, the objective constant),
 // infeasible and unbounded ones (the IPM's certificates checked), and malformed files (the
 // error names the file and the line).
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "experiments/cbf_file.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "solvers/error.h"
 
 namespace {
@@ -155,7 +155,7 @@ TEST(CbfReader, ExtensionDecidesTheFormat) {
   EXPECT_FALSE(bivo::experiments::is_cbf_path("cbf"));
 }
 
-// Issue 15 (fuzz_cbf, tests/fuzz/regressions/cbf/): the VAR and CON headers alone used to
+// Found by fuzzing (fuzz_cbf, tests/fuzz/regressions/cbf/): the VAR and CON headers alone used to
 // decide allocations of O(n + m) (and n + m = 2^31 overflowed int). Now the declared sizes are
 // checked in 64 bits against max_cbf_size() (bivo --max-conic-size) before anything exists.
 TEST(CbfReader, Var1073741824AndCon1073741824AreRefusedBeforeAllocating) {

@@ -169,7 +169,7 @@ TEST_F(CliRun, EverySubcommandHasHelp) {
   }
 }
 
-// Issue 13, item 4: flags -> configuration file -> run reproduces the trajectory byte for byte.
+// Flags -> configuration file -> run reproduces the trajectory byte for byte.
 TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
   const std::string flags =
       " --method bounded --eps-min 2e-4 --eps-max 2e-3 --delta 0.015 --levels 3 --finest-level 1 --nu 4.5"
@@ -202,7 +202,7 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
   EXPECT_NE(slurp(dir_ / "c.config.json").find("\"eps_min\": 0.0002"), std::string::npos);
 }
 
-// The new policies' fields (issue 13, items 2-3) take the same road: flags -> file -> run.
+// The data-driven policies' fields take the same road: flags -> file -> run.
 // One method, two frames: each bivo process costs about a second on CI (kappa and
 // joint_weights round-trip through the file in TrackerConfig.EveryFieldRoundTrips...).
 TEST_F(CliRun, NewPolicyFieldsRoundTripThroughTheConfig) {

@@ -12,7 +12,7 @@
 #include "experiments/profile_study.h"
 #include "experiments/progress_bar.h"
 #include "experiments/result_table.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/rgbd_kernels.h"
 #include "solvers/error.h"
 
 #include <nlohmann/json.hpp>

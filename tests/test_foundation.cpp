@@ -8,7 +8,7 @@
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 namespace se3 = bivo::solvers::se3;

@@ -1,5 +1,5 @@
 // Every input under tests/fuzz/regressions/<harness>/ (crashes the fuzzers found, and the
-// reproducers of issue 15) replayed through its harness in every build: a regression
+// reproducers) replayed through its harness in every build: a regression
 // crashes or throws something other than bivo::Error here. The seed corpus the fuzzers
 // start from must be accepted by the readers, or fuzzing would start from garbage.
 #include <filesystem>
@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "experiments/cbf_file.h"
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/cbf_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "harnesses.h"
 #include "odometry/io/png_io.h"
 #include "odometry/io/trajectory.h"

@@ -1,4 +1,4 @@
-// Hostile command lines (issue 15) through the built `bivo`, each test named after its
+// Hostile command lines through the built `bivo`, each test named after its
 // reproducer: a clear error naming the flag, file or value, a non-zero exit, never
 // "internal error" or a crash, and no output left behind or replaced. Valid but extreme
 // windows run normally.

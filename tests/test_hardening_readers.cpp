@@ -1,4 +1,4 @@
-// Hostile input to the readers (issue 15), one test per reproducer, named after the input:
+// Hostile input to the readers, one test per reproducer, named after the input:
 // each now ends in a bivo::Error naming the file and the value, never a crash, an
 // allocation the input alone decides, or a silently wrong value.
 #include <png.h>
@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/input_limits.h"
 #include "odometry/io/metrics.h"

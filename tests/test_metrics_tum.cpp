@@ -6,7 +6,7 @@
 
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;

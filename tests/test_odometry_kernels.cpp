@@ -1,4 +1,4 @@
-// The float per-pixel kernels of RgbdOdometryProblem (odometry/rgbd_kernels.h) against
+// The float per-pixel kernels of RgbdOdometryProblem (odometry/kernels/rgbd_kernels.h) against
 // independent references: the double path (full residual data, what the finite-difference
 // tests check), the other instruction set, other thread counts (bit-identical results), and
 // first-order image motion computed point by point. A procedural scene (a slanted textured
@@ -17,7 +17,7 @@
 #include "odometry/tracker.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
@@ -432,7 +432,7 @@ TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
 }
 
 // The problems' buffers come from a per-thread pool and are not initialized
-// (odometry/pooled_floats.h): fill the pool with NaN-filled blocks, and every result must
+// (odometry/kernels/pooled_floats.h): fill the pool with NaN-filled blocks, and every result must
 // still equal, bit for bit, that of a problem built before (a read of an unwritten entry
 // would give NaN or another number).
 TEST(RgbdKernels, PooledBuffersHoldingOtherNumbersDoNotChangeResults) {

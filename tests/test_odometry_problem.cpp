@@ -15,7 +15,7 @@
 #include "odometry/rgbd_pyramid.h"
 #include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry/reference_terms.h"
-#include "odometry/rgbd_kernels.h"
+#include "odometry/kernels/rgbd_kernels.h"
 #include "odometry/rgbd_pyramid.h"
 
 using namespace bivo::odometry;

@@ -12,7 +12,7 @@
 
 #include "odometry/tracker.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 #include "tests/test_support.h"
 
 using namespace bivo;
@@ -222,7 +222,7 @@ TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
 }
 
 // Two frame loaders only where each gets a core of its own beside the per-pixel threads:
-// otherwise they stretch every pair's wall time (docs/odometry.md, "Eleventh round").
+// otherwise they stretch every pair's wall time (docs/faq.md).
 TEST(Tracker, AutoLoadThreadsTakeOnlyFreeCores) {
   TrackerOptions o;
   EXPECT_EQ(o.load_threads, 0);  // auto by default
@@ -280,7 +280,7 @@ TEST(Tracker, BadOptionsListTheValidChoices) {
   EXPECT_THROW(track_sequence("/no/such/sequence", TrackerOptions{}), Error);
 }
 
-// Method noise-bounded (issue 13, item 3) on a real textured pair whose current depth image
+// Method noise-bounded on a real textured pair whose current depth image
 // is scaled by 1.03 (a biased sensor): the depth objective then disagrees with the
 // photometric one, the bound would pull the estimate ~3 % of the depth backwards, and the
 // guard must relax it so that the estimate stays within the single-objective error.

@@ -1,4 +1,4 @@
-// run_beside (odometry/parallel_chunks.h): both functions run once, main on the calling
+// run_beside (odometry/kernels/parallel_chunks.h): both functions run once, main on the calling
 // thread; with one thread in the order main, beside; an exception from either side reaches
 // the caller only after both have stopped, main's first.
 #include <atomic>
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/parallel_chunks.h"
+#include "odometry/kernels/parallel_chunks.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// PooledFloats (odometry/pooled_floats.h): a released block is taken back by the next array
+// PooledFloats (odometry/kernels/pooled_floats.h): a released block is taken back by the next array
 // that fits, on the thread that allocated it, wherever it was released.
 #include <cstdint>
 #include <future>
@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/pooled_floats.h"
+#include "odometry/kernels/pooled_floats.h"
 
 namespace {
 

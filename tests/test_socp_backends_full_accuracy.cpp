@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "solvers/conic/synthetic_qcqp.h"
+#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_full_backend.h"
 

@@ -6,7 +6,7 @@
 
 #include "tests/test_support.h"
 
-#include "solvers/conic/synthetic_qcqp.h"
+#include "tests/support/synthetic_qcqp.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipopt_qcqp_backend.h"

@@ -7,8 +7,8 @@
 
 #include "tests/test_support.h"
 
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/synthetic_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_compressed_backend.h"

@@ -13,8 +13,8 @@
 #include <gtest/gtest.h>
 
 #include "solvers/conic/ipm_solver.h"
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/synthetic_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_full_backend.h"
 

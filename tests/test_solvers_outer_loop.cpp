@@ -18,7 +18,7 @@
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
 #include "solvers/outer_loop.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 using bivo::problems::ExponentialDecayPair;

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "experiments/study.h"
-#include "experiments/study_launch.h"
-#include "experiments/study_results.h"
-#include "experiments/study_work.h"
+#include "experiments/study/study.h"
+#include "experiments/study/study_launch.h"
+#include "experiments/study/study_results.h"
+#include "experiments/study/study_work.h"
 #include "solvers/error.h"
 #include "test_support.h"
 
@@ -63,7 +63,8 @@ TEST(StudyFile, RoundTripsBitForBitAndIsStrict) {
             std::string::npos);
   nlohmann::json bad_tracker = j;
   bad_tracker["tracker"]["levels"] = 0;
-  EXPECT_NE(error_of([&] { study_from_json(bad_tracker, "s.json"); }).find("s.json.tracker.levels"), std::string::npos);
+  EXPECT_NE(error_of([&] { study_from_json(bad_tracker, "s.json"); }).find("s.json.tracker: levels: 0 is outside [1, 8]"),
+            std::string::npos);
   nlohmann::json table_kind = j;
   table_kind["kind"] = "table";
   EXPECT_NE(error_of([&] { study_from_json(table_kind, "s.json"); }).find("has no 'sweep' part"), std::string::npos);
@@ -248,7 +249,12 @@ TEST(SweepAssembly, RatiosToTheReferenceAndNotes) {
 
   runs[3].missing = false;
   runs[3].error = "sweep: sequence '/d/b' has no groundtruth.txt";
-  EXPECT_EQ(error_of([&] { assemble_sweep(o, runs); }), runs[3].error);
+  // A failed reference leaves its sequence's points out with a note; the others are kept.
+  const SweepResult without_b = assemble_sweep(o, runs);
+  EXPECT_EQ(without_b.points.size(), 2u);
+  ASSERT_EQ(without_b.notes.size(), 1u);
+  EXPECT_EQ(without_b.notes[0], "b: the single-objective reference failed (" + runs[3].error +
+                                    "); its points are left out");
   runs[3] = ok(units[3], 0.5, 0.5);
   runs[4].ok = false;
   runs[4].error = "diverged";

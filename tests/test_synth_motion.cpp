@@ -6,7 +6,7 @@
 
 #include "odometry/synth/motion.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace synth = bivo::odometry::synth;
 namespace se3 = bivo::solvers::se3;

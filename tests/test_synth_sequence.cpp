@@ -20,7 +20,7 @@
 #include "odometry/synth/sequence.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace fs = std::filesystem;
 namespace synth = bivo::odometry::synth;

@@ -168,21 +168,25 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
     return error_of([&] { tracker_options_from_json(json::parse(text), "cfg.json"); });
   };
   EXPECT_NE(err(R"({"levls": 3})").find("cfg.json: unknown key 'levls'"), std::string::npos);
-  EXPECT_NE(err(R"({"policy": {"phii": 3}})").find("cfg.json.policy: unknown key 'phii'"), std::string::npos);
-  EXPECT_NE(err(R"({"levels": "four"})").find("cfg.json.levels: must be an integer"), std::string::npos);
-  EXPECT_NE(err(R"({"levels": 2.5})").find("cfg.json.levels: must be an integer"), std::string::npos);
-  EXPECT_NE(err(R"({"levels": 0})").find("cfg.json.levels: 0 is outside [1, 12]"), std::string::npos);
-  EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json.max_frames"), std::string::npos);
-  EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("cfg.json.step_extrapolation: 0.9 is outside [1, 100]"),
+  EXPECT_NE(err(R"({"policy": {"phii": 3}})").find("cfg.json: unknown key 'policy.phii'"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": "four"})").find("cfg.json: levels: must be an integer"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": 2.5})").find("cfg.json: levels: must be an integer, got 2.5"), std::string::npos);
+  EXPECT_NE(err(R"({"levels": 0})").find("cfg.json: levels: 0 is outside [1, 8]"), std::string::npos);
+  EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json: max_frames: 4294967296 is outside [-1, 2147483647]"), std::string::npos);
+  EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("cfg.json: step_extrapolation: 0.9 is outside [1, 100]"),
             std::string::npos);
-  EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json.policy.phi: -1 is outside"), std::string::npos);
-  EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json.problem.weights.kind"),
+  EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json: policy.phi: -1 is outside (0, inf]"), std::string::npos);
+  EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json: problem.weights.kind: "),
             std::string::npos);
-  EXPECT_NE(err(R"({"initial_guess": "zero"})").find("cfg.json.initial_guess"), std::string::npos);
+  EXPECT_NE(err(R"({"initial_guess": "zero"})").find("cfg.json: initial_guess: "), std::string::npos);
   EXPECT_NE(err(R"({"method": "nonsense"})").find("cfg.json: "), std::string::npos);
-  EXPECT_NE(err(R"({"intrinsics": {"fx": 0, "fy": 1, "cx": 0, "cy": 0}})").find("cfg.json.intrinsics.fx"),
+  EXPECT_NE(err(R"({"intrinsics": {"fx": 0, "fy": 1, "cx": 0, "cy": 0}})").find("cfg.json: intrinsics.fx: 0 is outside (0, inf)"),
             std::string::npos);
   EXPECT_NE(err(R"([1, 2])").find("cfg.json: must be a JSON object"), std::string::npos);
+  EXPECT_NE(err(R"({"policy": 3})").find("cfg.json: policy: must be a JSON object, got number"), std::string::npos);
+  // Intrinsics need all four numbers (a missing cy used to keep the default silently).
+  EXPECT_NE(err(R"({"intrinsics": {"fx": 500, "fy": 500, "cx": 320}})").find("cfg.json: intrinsics.cy: missing"),
+            std::string::npos);
   // A method's backend that cannot solve its scalarization is caught by validate().
   EXPECT_NE(err(R"({"method": "bounded", "backend": "gn"})"), "");
 

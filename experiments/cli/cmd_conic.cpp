@@ -1,14 +1,14 @@
 // `bivo conic FILE`: solve a conic program (orthant x second-order cones) from a JSON file
-// (format: experiments/conic_file.h, docs/conic.md) or a CBF file (CBLIB's Conic Benchmark
-// Format: experiments/cbf_file.h) with the project's IPM.
+// (format: experiments/conic_files/conic_file.h, docs/conic.md) or a CBF file (CBLIB's Conic Benchmark
+// Format: experiments/conic_files/cbf_file.h) with the project's IPM.
 #include <cstdio>
 #include <iostream>
 #include <string>
 
-#include "experiments/cbf_file.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "solvers/conic/ipm_solver.h"
 
 namespace bivo::experiments::cli {

@@ -1,14 +1,14 @@
 // `bivo pareto SEQUENCE_DIR (--pair K | --every K) --output DIR`: Pareto fronts (F_I, F_D) of
 // frame pairs by lambda and epsilon sweeps, with the methods' picks, the knee and pose errors
 // (experiments/pareto_study.h); JSON per pair plus a PNG per pair and a Markdown summary.
-// One work unit per pair (experiments/study.h).
+// One work unit per pair (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/pareto_study.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 
@@ -28,7 +28,10 @@ StudyFactory add_pareto_flags(CLI::App* cmd) {
   cmd->add_option("--max-pairs", a->max_pairs, "with --every: at most this many pairs")->capture_default_str();
   cmd->add_option("--level", a->o.level, "pyramid level of the problem (0 = full resolution)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
-  cmd->add_option("--points", a->o.points, "points per sweep")->capture_default_str();
+  cmd->add_option("--points", a->o.points, "points per sweep")->capture_default_str()->check(CLI::Range(2, 1000));
+  cmd->add_option("--backend", a->o.backend,
+                  "solver backend of the sweeps it can solve (weighted sum: the lambda sweep instead of gn; "
+                  "epsilon-constraint: the epsilon sweep instead of exact; see `bivo run --help`)");
   cmd->add_option("--lambda-min", a->o.lambda_min, "smallest lambda of the sweep")->capture_default_str();
   cmd->add_option("--lambda-max", a->o.lambda_max, "largest lambda of the sweep")->capture_default_str();
   cmd->add_option("--methods", a->o.methods, "methods whose picks are marked")->capture_default_str();

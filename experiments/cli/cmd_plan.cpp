@@ -1,7 +1,7 @@
 // `bivo plan KIND [the flags of bivo KIND] --study FILE [--shards N] [--slurm ...]
-// [--parallel ...]`: writes the study that `bivo KIND` would run (experiments/study.h) for
+// [--parallel ...]`: writes the study that `bivo KIND` would run (experiments/study/study.h) for
 // `bivo work` / `bivo merge`, and optionally the Slurm scripts or the GNU Parallel command
-// line that run its shards (experiments/study_launch.h, docs/scaling.md).
+// line that run its shards (experiments/study/study_launch.h, docs/scaling.md).
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -10,9 +10,9 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
-#include "experiments/study_launch.h"
-#include "experiments/study_plan.h"
-#include "experiments/study_work.h"
+#include "experiments/study/study_launch.h"
+#include "experiments/study/study_plan.h"
+#include "experiments/study/study_work.h"
 #include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 

@@ -31,6 +31,10 @@ void add_profile_command(CLI::App& app) {
                   "frames for the interior-point SOCP backends (bounded:ipm-*; seconds per pair; 0 = --max-frames)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd->add_option("--repetitions", a->o.repetitions,
+                  "timed runs of every method (after one untimed warm-up), interleaved; medians and quartiles")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {

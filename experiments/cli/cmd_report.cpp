@@ -1,13 +1,13 @@
 // `bivo report --sequences DIR... --output DIR`: one Markdown report with tables and plots
 // (experiments/report_builder.h). Its work units are those of its table, its sweep and
-// one Pareto pair per sequence (experiments/study.h).
+// one Pareto pair per sequence (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/report_builder.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 
@@ -29,6 +29,9 @@ StudyFactory add_report_flags(CLI::App* cmd) {
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per sequence for the tables (-1: all)")
       ->capture_default_str();
+  cmd->add_option("--delta", a->o.rpe_delta, "RPE window [s] (a run spanning fewer than two gives \"too short\" cells)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
   cmd->add_option("--sweep-frames", a->o.sweep_max_frames, "frames per sweep run")->capture_default_str();
   cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: none)")->capture_default_str();
   cmd->add_option("--lambda-min", a->lambda_min, "smallest lambda")->capture_default_str();
@@ -38,7 +41,9 @@ StudyFactory add_report_flags(CLI::App* cmd) {
   cmd->add_option("--eps-max", a->eps_max, "largest epsilon")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--pareto-level", a->o.pareto_level, "pyramid level of the Pareto fronts")->capture_default_str();
-  cmd->add_option("--pareto-points", a->o.pareto_points, "points per Pareto sweep")->capture_default_str();
+  cmd->add_option("--pareto-points", a->o.pareto_points, "points per Pareto sweep")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
   return [a] {

@@ -1,13 +1,13 @@
 // `bivo sweep --sequences DIR... --output DIR`: error vs lambda (log grid, method fixed) and
 // vs epsilon (log grid, method bounded) relative to the single-objective run (paper fig. 3).
-// One work unit per sequence x {reference, grid point} (experiments/study.h).
+// One work unit per sequence x {reference, grid point} (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/parameter_sweep.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 
@@ -30,6 +30,9 @@ StudyFactory add_sweep_flags(CLI::App* cmd) {
   cmd->add_option("--eps-backend", a->o.epsilon_backend, "backend of the bounded runs (default exact)");
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
+  cmd->add_option("--delta", a->o.rpe_delta, "RPE window [s] (a run spanning fewer than two gives \"too short\" cells)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for sweep.csv / sweep.json / sweep.md")->required();
   return [a] {

@@ -1,14 +1,14 @@
 // `bivo table --sequences DIR... [--methods M...] --output DIR`: methods x sequences ->
 // the paper's tables 1/2 (translational RPE m/s, best per column in bold) and table 3 (ms
 // per pair), as Markdown + CSV + JSON (experiments/method_matrix.h). One work unit per
-// method x sequence (experiments/study.h).
+// method x sequence (experiments/study/study.h).
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
 #include "experiments/method_matrix.h"
-#include "experiments/study_plan.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 
@@ -19,6 +19,7 @@ StudyFactory add_table_flags(CLI::App* cmd) {
     std::vector<std::string> methods{"single", "tykkala", "weighted", "bounded"};
     std::string output;
     int first_frame = 0, max_frames = -1;
+    double delta = 1.0;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--sequences", a->sequences, "TUM sequence folders (columns)")->required();
@@ -30,6 +31,9 @@ StudyFactory add_table_flags(CLI::App* cmd) {
       ->required();
   cmd->add_option("--first-frame", a->first_frame, "first associated frame of every sequence")->capture_default_str();
   cmd->add_option("--max-frames", a->max_frames, "frames per sequence (-1: all)")->capture_default_str();
+  cmd->add_option("--delta", a->delta, "RPE window [s] (a run spanning fewer than two gives \"too short\" cells)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   return [a] {
     check_output_folder({"--output", a->output});
@@ -38,6 +42,7 @@ StudyFactory add_table_flags(CLI::App* cmd) {
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.first_frame = a->first_frame;
     o.max_frames = a->max_frames;
+    o.rpe_delta = a->delta;
     o.tracker = a->tracker->options();
     return table_study(o, a->output);
   };

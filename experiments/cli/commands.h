@@ -3,11 +3,12 @@
 // to the CLI11 app here. Handlers throw bivo::Error on bad input; main prints it and exits 1.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include "experiments/study.h"
-#include "experiments/study_merge.h"
+#include "experiments/study/study.h"
+#include "experiments/study/study_merge.h"
 
 namespace bivo::experiments::cli {
 
@@ -42,5 +43,9 @@ void add_study_command(CLI::App& app, const std::string& name, const std::string
                        StudyFactory (*add_flags)(CLI::App*));
 // What a study's command prints on stdout once its outputs are written.
 void print_study_output(const MergeOutput& output);
+// After the outputs are written: lists the failed units on stderr and, unless keep_going,
+// throws bivo::Error counting them (exit 1); with keep_going the count is the last line.
+void finish_with_failures(const std::vector<std::string>& failures, int units, bool keep_going);
+void add_keep_going_flag(CLI::App* cmd, bool& keep_going);
 
 }  // namespace bivo::experiments::cli

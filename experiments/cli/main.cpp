@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "experiments/cbf_file.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "experiments/cli/commands.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"
@@ -42,16 +42,19 @@ int main(int argc, char** argv) {
   ex::add_work_command(app);
   ex::add_merge_command(app);
   ex::add_loso_command(app);
+  // Exit codes: 0 when every unit produced its result, 2 for a usage error (the command line
+  // does not parse: unknown flag, missing or malformed value), 1 for every other error.
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);  // prints the message (or the --help text, code 0)
+    return code == 0 ? 0 : 2;
   } catch (const bivo::Error& e) {
     std::cerr << "bivo: error: " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "bivo: internal error: " << e.what() << "\n";
-    return 2;
+    return 1;
   }
   return 0;
 }

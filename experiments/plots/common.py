@@ -1,4 +1,4 @@
-"""Shared helpers of the bivo plot scripts: CSV reading, atomic PNG saving, method colours."""
+"""Shared helpers of the bivo plot scripts: CSV reading, atomic PNG saving, method styles."""
 import csv
 import os
 import sys
@@ -8,19 +8,28 @@ import matplotlib
 matplotlib.use("Agg")  # files only; no display on CI machines
 import matplotlib.pyplot as plt  # noqa: E402
 
-# One colour per method, stable across every plot of a report.
-METHOD_COLOURS = {
-    "single": "#d62728",
-    "depth": "#8c564b",
-    "fixed": "#7f7f7f",
-    "tykkala": "#ff7f0e",
-    "weighted": "#1f77b4",
-    "bounded": "#2ca02c",
+# One colour and one marker per method, distinct and the same in every plot of a report
+# (matplotlib's default cycle gave two methods each colour).
+METHOD_STYLES = {
+    "single": ("#d62728", "o"),
+    "depth": ("#8c564b", "v"),
+    "fixed": ("#7f7f7f", "s"),
+    "tykkala": ("#ff7f0e", "^"),
+    "weighted": ("#1f77b4", "D"),
+    "bounded": ("#2ca02c", "P"),
+    "joint": ("#9467bd", "X"),
+    "scaled": ("#e377c2", "h"),
+    "noise-bounded": ("#17becf", "*"),
 }
+METHOD_COLOURS = {m: style[0] for m, style in METHOD_STYLES.items()}
 
 
 def colour(method):
-    return METHOD_COLOURS.get(method, None)
+    return METHOD_STYLES.get(method, ("#000000", "."))[0]
+
+
+def marker(method):
+    return METHOD_STYLES.get(method, ("#000000", "."))[1]
 
 
 def read_csv(path):

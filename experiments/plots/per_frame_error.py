@@ -6,7 +6,7 @@ left out by the writer).
 """
 from collections import defaultdict
 
-from common import colour, need_args, plt, read_csv, save
+from common import colour, marker, need_args, plt, read_csv, save
 
 src, out = need_args(2, "per_frame_error.py PAIRS.csv OUT.png")
 rows = read_csv(src)
@@ -19,7 +19,8 @@ for ax, seq in zip(axes[:, 0], sequences):
     for method, pts in series[seq].items():
         pts.sort()
         t0 = pts[0][0]
-        ax.plot([p[0] - t0 for p in pts], [1000 * p[1] for p in pts], label=method, color=colour(method), lw=1)
+        ax.plot([p[0] - t0 for p in pts], [1000 * p[1] for p in pts], label=method, color=colour(method), lw=1,
+                marker=marker(method), ms=3, markevery=max(1, len(pts) // 12))
     ax.set_title(seq, fontsize=9)
     ax.set_ylabel("error per frame [mm]")
     ax.grid(alpha=0.3)

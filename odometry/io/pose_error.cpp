@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry::io {
 

@@ -8,7 +8,7 @@
 #include "odometry/io/input_limits.h"
 #include "odometry/synth/random.h"
 #include "solvers/error.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry::synth {
 

@@ -43,7 +43,7 @@ struct Equilibration {
   Eigen::VectorXd row_cone;  // Eg (constant within each second-order cone)
 };
 
-// Ruiz-style infinity-norm equilibration, `passes` rounds (early stop once every factor is
+// Ruiz-style infinity-norm equilibration, `passes` sweeps (early stop once every factor is
 // within 1 % of 1). The factors are computed without touching the data: a block's largest
 // |entry| scales exactly with its row and column factors, so the passes run on the matrix of
 // block maxima of [A; G] (one row per equality, per orthant row and per second-order cone),

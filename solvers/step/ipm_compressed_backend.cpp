@@ -1,6 +1,6 @@
 #include "solvers/step/ipm_compressed_backend.h"
 
-#include "solvers/conic/qcqp_socp.h"
+#include "solvers/step/qcqp_socp.h"
 #include "solvers/error.h"
 
 namespace bivo::solvers {

@@ -5,7 +5,7 @@
 // eigen-factorization of the quadratic model's Gram data H, b, a), the floor kept out of
 // the cone (radius sqrt(epsilon - floor_2)). Same conic IPM as ipm-full.
 #include "solvers/conic/ipm_solver.h"
-#include "solvers/conic/qcqp_socp.h"
+#include "solvers/step/qcqp_socp.h"
 #include "solvers/step_backend.h"
 
 namespace bivo::solvers {

@@ -4,7 +4,7 @@
 // Jacobians), by the project's own conic IPM. Reproduces table 3's SOCP column; needs
 // Linearization::full1/full2.
 #include "solvers/conic/ipm_solver.h"
-#include "solvers/conic/qcqp_socp.h"
+#include "solvers/step/qcqp_socp.h"
 #include "solvers/step_backend.h"
 
 namespace bivo::solvers {

@@ -7,10 +7,10 @@
 
 #include <Eigen/Dense>
 
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/scaled_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "solvers/step/scaled_qcqp.h"
 #include "solvers/error.h"
-#include "solvers/ipopt_one_constraint.h"
+#include "solvers/whole/ipopt_one_constraint.h"
 
 namespace bivo::solvers {
 

@@ -1,6 +1,6 @@
 #pragma once
 // `ipopt`: Ipopt (interior point, MUMPS) on the epsilon-constraint step (eq. `QCQP`) with
-// exact Hessians, in the scaled variables of solvers/conic/scaled_qcqp.h.
+// exact Hessians, in the scaled variables of solvers/step/scaled_qcqp.h.
 // bound_relax_factor = 0: Ipopt's default relaxes the constraint by 1e-8 * epsilon.
 // mu is Ipopt's constraint multiplier mapped back to model units.
 #include "solvers/step_backend.h"

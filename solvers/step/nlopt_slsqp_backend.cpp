@@ -7,8 +7,8 @@
 
 #include <Eigen/Dense>
 
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/scaled_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "solvers/step/scaled_qcqp.h"
 #include "solvers/error.h"
 
 namespace bivo::solvers {

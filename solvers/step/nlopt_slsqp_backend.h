@@ -1,6 +1,6 @@
 #pragma once
 // `nlopt`: NLopt's SLSQP on the epsilon-constraint step (eq. `QCQP`), in the scaled
-// variables and functions of solvers/conic/scaled_qcqp.h (SLSQP fails in raw units).
+// variables and functions of solvers/step/scaled_qcqp.h (SLSQP fails in raw units).
 // Infeasible epsilon (below min m2, from the model's floor) is flagged without calling NLopt.
 #include "solvers/step_backend.h"
 

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "experiments/cbf_file.h"
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/cbf_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "odometry/io/input_limits.h"
 #include "odometry/io/metrics.h"
 #include "odometry/io/png_io.h"

@@ -8,14 +8,14 @@
 #include <sstream>
 #include <vector>
 
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "harnesses.h"
 #include "odometry/io/png_io.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/synth/motion.h"
 #include "odometry/synth/sequence.h"
-#include "solvers/conic/qcqp_socp.h"
-#include "solvers/conic/synthetic_qcqp.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 
 namespace bivo::fuzz {
 namespace {

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "experiments/conic_file.h"
+#include "experiments/conic_files/conic_file.h"
 #include "experiments/trajectory_evaluation.h"
 #include "odometry/tracker.h"
 #include "problems/exponential_decay_pair.h"
@@ -25,7 +25,7 @@
 #include "solvers/error.h"
 #include "solvers/outer_loop.h"
 #include "solvers/pareto.h"
-#include "solvers/se3.h"
+#include "solvers/geometry/se3.h"
 
 namespace {
 

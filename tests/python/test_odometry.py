@@ -39,7 +39,7 @@ def test_every_backend_solves_a_pair_problem(synthetic_sequence):
     problem = pair.problem(3)
     f2 = [bivo.solve(problem, bivo.WeightedSum(lam), "gn", IDENTITY).final_f2 for lam in (1e8, 0.0)]
     for b in bivo.backends():
-        # epsilon near F_D at argmin F_I: reachable also by ipopt-nlp, whose re-weighting rounds
+        # epsilon near F_D at argmin F_I: reachable also by ipopt-nlp, whose re-weighting passes
         # change the scale of F_D (closer to min F_D it reports the bound infeasible).
         eps = f2[0] + 0.8 * (f2[1] - f2[0])
         scal = bivo.WeightedSum(pair.lam()) if b["weighted_sum"] else bivo.EpsilonConstraint(eps)
@@ -79,3 +79,20 @@ def test_tracker_options_are_the_config_file_keys():
     lens = {"k1": 0.25, "k2": -0.5, "p1": 0.001, "p2": -0.002, "k3": 1.0}
     assert bivo.odometry.tracker_options(distortion=lens)["distortion"] == lens
     assert "weighted" in bivo.odometry.methods()
+
+
+def test_tracker_keywords_are_checked_as_the_config_file_and_the_flags():
+    # The same table and check as `bivo run --nu -2` and a file holding {"problem": {"weights": {"nu": -2}}}.
+    message = "tracker options: problem.weights.nu: -2 is outside (0, inf]"
+    with pytest.raises(bivo.Error, match=message.replace("(", r"\(").replace("[", r"\[").replace("]", r"\]")):
+        bivo.odometry.tracker_options(problem={"weights": {"nu": -2}})
+    with pytest.raises(bivo.Error, match=r"problem\.weights\.nu: -2 is outside \(0, inf\]"):
+        bivo.odometry.tracker_options(nu=-2)
+    with pytest.raises(bivo.Error, match=r"step_tolerance: -1 is outside \[0, inf\]"):
+        bivo.odometry.tracker_options(step_tolerance=-1)
+    # A flat keyword lands on the nested key.
+    assert bivo.odometry.tracker_options(nu=3.5, phi=40)["problem"]["weights"]["nu"] == 3.5
+    assert bivo.odometry.tracker_options(phi=40)["policy"]["phi"] == 40
+    rows = bivo.odometry.tracker_option_table()
+    nu = next(r for r in rows if r["key"] == "problem.weights.nu")
+    assert nu["flag"] == "--nu" and nu["python_name"] == "nu" and nu["range"] == "(0, inf]" and nu["default"] == 5

@@ -1,0 +1,188 @@
+// What the study commands (table, sweep, report) leave behind and how they exit, through the
+// built `bivo` on tiny rendered sequences: two sequences whose folders share a name keep both
+// results; a failed cell writes the others and exits 1 (0 with --keep-going, the count still
+// on the last line); usage errors exit 2; a run too short for one RPE window gives "too
+// short" cells instead of a dead report.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "odometry/synth/sequence.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using namespace bivo;
+using bivo::testing::BivoRun;
+using json = nlohmann::json;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::string last_line(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == '\n') t.pop_back();
+  const auto nl = t.rfind('\n');
+  return nl == std::string::npos ? t : t.substr(nl + 1);
+}
+
+class StudyOutcomes : public ::testing::Test {
+ protected:
+  // Two renderings of one category with different seeds: same folder name, in syn1/ and syn2/.
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("bivo_study_outcomes_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    for (int seed : {1, 2}) {
+      odometry::synth::SynthOptions o;
+      o.category = odometry::synth::parse_category("structure_texture_near");
+      o.frames = 10;
+      o.seed = seed;
+      o.render.supersampling = 1;
+      const fs::path dir = root_ / ("syn" + std::to_string(seed));
+      fs::create_directories(dir);
+      sequences_.push_back(odometry::synth::render_sequence(o, dir.string()));
+    }
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override {
+    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::create_directories(dir_);
+  }
+  static std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+  BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, dir_.string()); }
+
+  static fs::path root_;
+  static std::vector<std::string> sequences_;
+  fs::path dir_;
+};
+fs::path StudyOutcomes::root_;
+std::vector<std::string> StudyOutcomes::sequences_;
+
+}  // namespace
+
+TEST_F(StudyOutcomes, TwoSequencesOfOneNameKeepBothResults) {
+  ASSERT_EQ(fs::path(sequences_[0]).filename(), fs::path(sequences_[1]).filename());
+  const fs::path out = dir_ / "out";
+  const BivoRun r = bivo("table --sequences " + q(sequences_[0]) + " " + q(sequences_[1]) +
+                         " --methods single --levels 2 --output " + q(out));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json results = json::parse(slurp(out / "results.json"));
+  std::set<std::string> labels;
+  for (const auto& cell : results) labels.insert(cell.at("sequence").get<std::string>());
+  ASSERT_EQ(labels.size(), 2u) << results.dump();
+  for (const auto& label : labels) {
+    EXPECT_TRUE(contains(slurp(out / "tables.md"), label)) << label;  // both columns, by their own title
+  }
+  // Both trajectories written, each the run of its own sequence (the seeds move differently).
+  std::vector<std::string> trajectories;
+  for (const auto& e : fs::directory_iterator(out / "trajectories")) trajectories.push_back(slurp(e.path()));
+  ASSERT_EQ(trajectories.size(), 2u);
+  EXPECT_NE(trajectories[0], trajectories[1]);
+}
+
+TEST_F(StudyOutcomes, AFailedCellExitsOneAfterWritingTheOthers) {
+  const std::string args = "table --sequences " + q(sequences_[0]) + " " + q(dir_ / "nonexistent") +
+                           " --methods single --levels 2 --output ";
+  const BivoRun r = bivo(args + q(dir_ / "out"));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_TRUE(contains(last_line(r.err), "1 of 2 unit(s) failed")) << r.err;
+  EXPECT_TRUE(contains(r.err, "nonexistent")) << r.err;
+  const json results = json::parse(slurp(dir_ / "out" / "results.json"));
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[0].value("frames", 0), 10);  // the good cell is there
+  EXPECT_FALSE(results[1].contains("frames"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "out" / "trajectories"), fs::directory_iterator{}), 1);
+
+  const BivoRun kept = bivo(args + q(dir_ / "kept") + " --keep-going");
+  EXPECT_EQ(kept.status, 0) << kept.err;
+  EXPECT_TRUE(contains(last_line(kept.err), "1 of 2 unit(s) failed")) << kept.err;
+  EXPECT_TRUE(fs::exists(dir_ / "kept" / "tables.md"));
+}
+
+TEST_F(StudyOutcomes, ASweepWithABadBackendExitsOne) {
+  const BivoRun r = bivo("sweep --sequences " + q(sequences_[0]) +
+                         " --lambda-points 1 --eps-points 1 --eps-backend nope --levels 2 --output " + q(dir_ / "out"));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "nope")) << r.err;
+}
+
+TEST_F(StudyOutcomes, UsageErrorsExitTwoRuntimeErrorsOne) {
+  EXPECT_EQ(bivo("table --methods single").status, 2);                   // --sequences missing
+  EXPECT_EQ(bivo("run " + q(sequences_[0]) + " --method single --no-such-flag").status, 2);
+  EXPECT_EQ(bivo("no-such-command").status, 2);
+  EXPECT_EQ(bivo("table --sequences a b --output " + q(dir_ / "o") + " --first-frame x").status, 2);
+  EXPECT_EQ(bivo("run " + q(dir_ / "missing") + " --method single").status, 1);
+  EXPECT_EQ(bivo("--help").status, 0);
+}
+
+// 10 frames are 0.3 s: no 1-s RPE window. The report still completes, saying so in its cells;
+// with --delta 0.1 the same run has RPE values.
+TEST_F(StudyOutcomes, ATenFrameReportCompletesWithTooShortCells) {
+  const std::string args = "report --sequences " + q(sequences_[0]) +
+                           " --methods single weighted --max-frames 10 --sweep-frames 10 --lambda-points 1"
+                           " --eps-points 1 --pareto-points 3 --levels 2 --no-plots --output ";
+  const BivoRun r = bivo(args + q(dir_ / "r1"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string report = slurp(dir_ / "r1" / "report.md");
+  EXPECT_TRUE(contains(report, "| too short |")) << report;
+  EXPECT_TRUE(contains(report, "fewer than 2 RPE windows of 1 s")) << report;
+
+  const BivoRun shorter = bivo(args + q(dir_ / "r2") + " --delta 0.1");
+  ASSERT_EQ(shorter.status, 0) << shorter.err;
+  const std::string windows = slurp(dir_ / "r2" / "report.md");
+  EXPECT_FALSE(contains(windows, "too short")) << windows;
+  const json results = json::parse(slurp(dir_ / "r2" / "tables" / "results.json"));
+  for (const auto& cell : results) EXPECT_GT(cell.value("rpe_windows", 0), 1) << cell.dump();
+}
+
+// --backend lm solves the lambda sweep by another algorithm: the same weighted-sum minima (the
+// default gn run is the oracle) reached by different iterates, so not bit-identical.
+TEST_F(StudyOutcomes, ParetoBackendAndBoundedCounts) {
+  const std::string args = "pareto " + q(sequences_[0]) + " --pair 0 --points 5 --levels 2 --level 1 --no-plots";
+  ASSERT_EQ(bivo(args + " --output " + q(dir_ / "gn")).status, 0);
+  const BivoRun lm = bivo(args + " --backend lm --output " + q(dir_ / "lm"));
+  ASSERT_EQ(lm.status, 0) << lm.err;
+  EXPECT_TRUE(contains(slurp(dir_ / "lm" / "study.json"), "\"backend\": \"lm\""));
+  const json a = json::parse(slurp(dir_ / "gn" / "pareto_pair0.json")).at("lambda_sweep");
+  const json b = json::parse(slurp(dir_ / "lm" / "pareto_pair0.json")).at("lambda_sweep");
+  bool identical = true;
+  int matched = 0;  // the fronts keep their non-dominated points: compare those of equal lambda
+  for (const auto& pa : a) {
+    for (const auto& pb : b) {
+      if (pa["lambda"] != pb["lambda"]) continue;
+      const double lambda = pa["lambda"];
+      const double fa = pa["f_i"].get<double>() + lambda * pa["f_d"].get<double>();
+      const double fb = pb["f_i"].get<double>() + lambda * pb["f_d"].get<double>();
+      EXPECT_NEAR(fb / fa, 1.0, 1e-5) << lambda;
+      identical = identical && pa["f_i"] == pb["f_i"];
+      ++matched;
+    }
+  }
+  EXPECT_GE(matched, 2);
+  EXPECT_FALSE(identical) << "the lambda sweep did not use --backend lm";
+
+  const BivoRun bad = bivo(args + " --backend nope --output " + q(dir_ / "bad"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_TRUE(contains(bad.err, "unknown solver backend 'nope'")) << bad.err;
+  EXPECT_EQ(bivo(args + " --points 100000 --output " + q(dir_ / "many")).status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "many"));
+  const BivoRun plan = bivo("plan pareto " + q(sequences_[0]) + " --pair 0 --points 3 --output " + q(dir_ / "p") +
+                            " --study " + q(dir_ / "p.json"));
+  ASSERT_EQ(plan.status, 0) << plan.err;
+  const BivoRun shard = bivo("work " + q(dir_ / "p.json") + " --shard 0/99999999999");
+  EXPECT_EQ(shard.status, 1);
+  EXPECT_TRUE(contains(shard.err, "--shard '0/99999999999'")) << shard.err;
+}
