@@ -29,17 +29,15 @@ RunOutcome run_sequence(const RunRequest& request,
   options.first_frame = request.first_frame;
   options.max_frames = request.max_frames;
   odometry::validate(options);
-  // Peek at the window's size for the progress bar; track_sequence re-checks it.
-  odometry::io::SequenceOptions so;
-  so.max_association_dt = options.max_association_dt;
-  so.intrinsics = options.intrinsics;
-  const odometry::io::TumSequence seq = odometry::io::open_tum_sequence(request.sequence_dir, so);
+  const auto opened = request.opened ? request.opened : open_run_sequence(request);
+  const odometry::io::TumSequence& seq = *opened;
+  // The window's size for the progress bar; track_sequence checks it.
   const odometry::FrameWindow window =
       odometry::frame_window(static_cast<int>(seq.frames.size()), options, request.sequence_dir);
   ProgressBar bar(request.label.empty() ? seq.name + " " + options.method : request.label,
                   window.end - window.begin - 1, request.progress);
 
-  odometry::TrackResult track = odometry::track_sequence(request.sequence_dir, options,
+  odometry::TrackResult track = odometry::track_sequence(seq, options,
                                                          [&](const odometry::PairResult& pair) {
                                                            if (on_pair) on_pair(pair);
                                                            bar.tick();
@@ -103,11 +101,14 @@ void write_pair_log(const std::string& path, const RunOutcome& run) {
   odometry::io::write_file_atomically(path, [&](std::ostream& o) { write_pair_log(o, run); });
 }
 
+std::shared_ptr<const odometry::io::TumSequence> open_run_sequence(const RunRequest& request) {
+  return std::make_shared<const odometry::io::TumSequence>(
+      odometry::io::open_tum_sequence(request.sequence_dir, odometry::sequence_options(request.tracker)));
+}
+
 std::vector<NamedPath> run_input_files(const RunRequest& request) {
-  odometry::io::SequenceOptions so;
-  so.max_association_dt = request.tracker.max_association_dt;
-  so.intrinsics = request.tracker.intrinsics;
-  const odometry::io::TumSequence seq = odometry::io::open_tum_sequence(request.sequence_dir, so);
+  const auto opened = request.opened ? request.opened : open_run_sequence(request);
+  const odometry::io::TumSequence& seq = *opened;
   std::vector<NamedPath> inputs;
   for (const auto& f : seq.list_files) inputs.push_back({"sequence list", f});
   // The sequence's other TUM lists too (e.g. rgb.txt beside associations.txt): never outputs.

@@ -10,6 +10,7 @@
 // The loop itself is odometry::track_sequence's; this adds the progress bar and the run
 // statistics (median/mean time per pair).
 #include <functional>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -29,7 +30,13 @@ struct RunRequest {
   int max_frames = -1;               // frames processed from first_frame (-1: to the end)
   int progress = -1;                 // progress bar: -1 when stderr is a terminal, 0 never, 1 always
   std::string label;                 // progress-bar label; empty: "<sequence> <method>"
+  // The sequence as open_run_sequence() opened it, so that one run reads its lists once;
+  // null: run_sequence() and run_input_files() open it themselves.
+  std::shared_ptr<const odometry::io::TumSequence> opened;
 };
+
+// The request's sequence, opened as the tracker opens it (odometry::sequence_options).
+std::shared_ptr<const odometry::io::TumSequence> open_run_sequence(const RunRequest& request);
 
 struct RunOutcome {
   std::string sequence;       // folder name

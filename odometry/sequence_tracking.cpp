@@ -49,15 +49,24 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
   return {static_cast<int>(first), static_cast<int>(end)};
 }
 
-TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
-                           const std::function<void(const PairResult&)>& on_pair) {
-  validate(options);
+io::SequenceOptions sequence_options(const TrackerOptions& options) {
   io::SequenceOptions so;
   so.max_association_dt = options.max_association_dt;
   so.intrinsics = options.intrinsics;
   so.distortion = options.distortion;
-  const io::TumSequence seq = io::open_tum_sequence(directory, so);
-  const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, directory);
+  return so;
+}
+
+TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
+                           const std::function<void(const PairResult&)>& on_pair) {
+  validate(options);
+  return track_sequence(io::open_tum_sequence(directory, sequence_options(options)), options, on_pair);
+}
+
+TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& options,
+                           const std::function<void(const PairResult&)>& on_pair) {
+  validate(options);
+  const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, seq.directory);
   const int first_index = window.begin, end = window.end;
 
   TrackResult out;

@@ -419,11 +419,7 @@ double FramePair::epsilon_per_weight(const TrackerOptions& options) const {
 
 FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
                           const TrackerOptions& options) {
-  io::SequenceOptions so;
-  so.max_association_dt = options.max_association_dt;
-  so.intrinsics = options.intrinsics;
-  so.distortion = options.distortion;
-  const io::TumSequence seq = io::open_tum_sequence(directory, so);
+  const io::TumSequence seq = io::open_tum_sequence(directory, sequence_options(options));
   const int n = static_cast<int>(seq.frames.size());
   for (int i : {reference_index, current_index}) {
     if (i < 0 || i >= n) {

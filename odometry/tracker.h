@@ -189,12 +189,18 @@ struct FrameWindow {
 };
 FrameWindow frame_window(int total, const TrackerOptions& options, const std::string& directory);
 
+// How the tracker opens a sequence: association window, intrinsics and distortion overrides.
+io::SequenceOptions sequence_options(const TrackerOptions& options);
+
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
 // frames (naming the sequence's frame count). With problem.threads >= 2 the next pair's
 // current frame is prepared (pyramid, statistics) on a worker while a pair is estimated
 // (sequence_tracking.h); results do not depend on it.
 TrackResult track_sequence(const std::string& directory, const TrackerOptions& options,
+                           const std::function<void(const PairResult&)>& on_pair = {});
+// The same on a sequence already opened with sequence_options(options).
+TrackResult track_sequence(const io::TumSequence& sequence, const TrackerOptions& options,
                            const std::function<void(const PairResult&)>& on_pair = {});
 
 // One preprocessed frame: its pyramid and full-resolution statistics (without the medians,

@@ -59,6 +59,7 @@ void add_run_command(CLI::App& app) {
     if (!a->log.empty()) req.tracker.evaluate_unused_objective = true;
     // Fail before the run, not after it, when an output cannot be written.
     const std::string config_beside = a->output.empty() ? "" : config_path_for(a->output);
+    req.opened = open_run_sequence(req);  // read once, for the output check and the run
     std::vector<NamedPath> inputs = run_input_files(req);
     inputs.push_back({"--config", a->tracker->config_path()});
     const RunOutputPaths outputs{a->output, a->log, {config_beside, a->save_config}};

@@ -1,16 +1,19 @@
 // `bivo synth`: renders one synthetic "Structure vs. Texture" RGB-D sequence in TUM format
 // along a real ground-truth trajectory (--trajectory) or generated hand-held motion, or the
-// fixed benchmark set of all eight categories (--benchmark-set, odometry/synth/benchmark_set.h).
+// fixed benchmark set of all eight categories (--benchmark-set, odometry/synth/benchmark_set.h),
+// or the stress set with real sensor defects (--stress-set, odometry/synth/stress_set.h).
 #include <chrono>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "experiments/cli/commands.h"
 #include "odometry/synth/benchmark_set.h"
 #include "experiments/output_set.h"
 #include "odometry/synth/sequence.h"
+#include "odometry/synth/stress_set.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
@@ -21,21 +24,53 @@ namespace {
 struct SynthArgs {
   std::string category, distance, trajectory, output, trajectories;
   odometry::synth::SynthOptions options;
-  bool no_noise = false, benchmark_set = false;
+  bool no_noise = false, benchmark_set = false, stress_set = false;
+  std::vector<double> depth_offset, depth_rotation, depth_delay;
 };
 
 // Options that would change a benchmark rendering: refused with --benchmark-set.
 const char* const kPerSequenceOptions[] = {"--distance", "--trajectory", "--frames", "--seed", "--name",
                                            "--start", "--fps", "--supersampling", "--depth-noise",
                                            "--disparity-step", "--max-range", "--read-noise", "--shot-noise",
-                                           "--exposure-jitter", "--speed", "--angular-speed", "--no-noise"};
+                                           "--exposure-jitter", "--speed", "--angular-speed", "--no-noise",
+                                           "--depth-bias-radial", "--depth-bias-lowfreq", "--depth-bias-wavelength",
+                                           "--depth-offset",
+                                           "--depth-rotation", "--depth-delay", "--readout", "--exposure",
+                                           "--blur-samples", "--gain-step", "--vignetting", "--time-scale",
+                                           "--wall-behind", "--view-distance", "--view-pitch",
+                                           "--static-depth-noise"};
 
-void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
+void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allow_frames) {
   for (const char* name : kPerSequenceOptions) {
+    if (allow_frames && std::string(name) == "--frames") continue;
     if (cmd.get_option(name)->count() > 0) {
-      throw Error(std::string("synth: --benchmark-set fixes every rendering parameter; drop ") + name);
+      throw Error(std::string("synth: ") + set + " fixes every rendering parameter; drop " + name);
     }
   }
+}
+
+void run_stress_set(const SynthArgs& a, const CLI::App& cmd) {
+  refuse_per_sequence_options(cmd, "--stress-set", true);
+  if (a.trajectories.empty()) {
+    throw Error("synth: --stress-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
+                "../shared/data/trajectories)");
+  }
+  const int frames = cmd.get_option("--frames")->count() > 0 ? a.options.frames : odometry::synth::kStressFrames;
+  for (const std::string& dir :
+       odometry::synth::render_stress_set(a.trajectories, a.output, frames, a.category, a.options.threads)) {
+    std::cout << dir << "\n";
+  }
+}
+
+// "x y z" flags: exactly three numbers or none.
+Eigen::Vector3d vector3(const std::vector<double>& v, const char* flag) {
+  if (v.empty()) return Eigen::Vector3d::Zero();
+  if (v.size() != 3) throw Error(std::string("synth: ") + flag + " takes 3 numbers, got " + std::to_string(v.size()));
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
+  refuse_per_sequence_options(cmd, "--benchmark-set", false);
   if (a.trajectories.empty()) {
     throw Error("synth: --benchmark-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
                 "../shared/data/trajectories)");
@@ -52,14 +87,26 @@ void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
 void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   namespace synth = odometry::synth;
   check_output_folder({"--output", a.output});
+  if (a.benchmark_set && a.stress_set) throw Error("synth: choose --benchmark-set or --stress-set, not both");
   if (a.benchmark_set) {
     run_benchmark_set(a, cmd);
+    return;
+  }
+  if (a.stress_set) {
+    run_stress_set(a, cmd);
     return;
   }
   if (a.category.empty()) throw Error("synth: --category is required (or --benchmark-set)");
   synth::SynthOptions o = a.options;
   o.category = synth::parse_category(a.category, a.distance);
   o.render.sensor_noise = !a.no_noise;
+  o.render.defects.depth_offset_m = vector3(a.depth_offset, "--depth-offset");
+  o.render.defects.depth_rotation_rad = vector3(a.depth_rotation, "--depth-rotation");
+  if (!a.depth_delay.empty()) {
+    if (a.depth_delay.size() != 2) throw Error("synth: --depth-delay takes 2 numbers (min max seconds)");
+    o.render.defects.depth_delay_min_s = a.depth_delay[0];
+    o.render.defects.depth_delay_max_s = a.depth_delay[1];
+  }
   std::string path;
   if (a.trajectory.empty()) {
     path = synth::render_sequence(o, a.output);
@@ -83,8 +130,12 @@ void add_synth_command(CLI::App& app) {
   cmd->add_flag("--benchmark-set", args->benchmark_set,
                 "render the fixed benchmark set: all 8 categories, 300 frames each along real fr3 motion, fixed "
                 "seeds (byte-identical everywhere); needs --trajectories");
+  cmd->add_flag("--stress-set", args->stress_set,
+                "render the stress set: 8 sequences with real sensor defects (biased, misregistered, "
+                "unsynchronized depth, rolling shutter, blur, gain, vignetting, far background, fast motion); "
+                "needs --trajectories; --frames shortens it, --category renders the names containing it");
   cmd->add_option("--trajectories", args->trajectories,
-                  "--benchmark-set: folder with the TUM *-groundtruth.txt files (../shared/data/trajectories)")
+                  "--benchmark-set / --stress-set: folder with the TUM *-groundtruth.txt files (../shared/data/trajectories)")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--trajectory", args->trajectory,
                   "TUM ground-truth trajectory to follow (re-anchored rigidly); default: generated hand-held motion")
@@ -117,6 +168,29 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "render threads (0 = one per hardware thread)")->capture_default_str();
   cmd->add_flag("--no-noise", args->no_noise, "no random sensor noise and no disparity quantization");
+  auto& d = o.render.defects;
+  cmd->add_option("--depth-bias-radial", d.bias_radial, "depth bias at the image corner, relative at 1 m (0 = off)");
+  cmd->add_option("--depth-bias-lowfreq", d.bias_lowfreq, "RMS of a smooth random depth bias, relative at 1 m");
+  cmd->add_option("--depth-bias-wavelength", d.bias_wavelength_px, "shortest wavelength of the smooth bias [px]")
+      ->capture_default_str();
+  cmd->add_option("--depth-offset", args->depth_offset, "depth camera offset from the colour camera: x y z [m]")
+      ->expected(3);
+  cmd->add_option("--depth-rotation", args->depth_rotation, "depth camera rotation vector: x y z [rad]")
+      ->expected(3);
+  cmd->add_option("--depth-delay", args->depth_delay, "depth taken U(min, max) s after colour: min max")
+      ->expected(2);
+  cmd->add_option("--readout", d.readout_s, "rolling-shutter readout time [s] (0 = global shutter)");
+  cmd->add_option("--exposure", d.exposure_s, "exposure time for motion blur [s] (0 = none)");
+  cmd->add_option("--blur-samples", d.blur_samples, "poses sampled within the exposure")->capture_default_str();
+  cmd->add_option("--gain-step", d.gain_step, "auto-exposure: sigma of the log gain's step per frame (0 = off)");
+  cmd->add_option("--vignetting", d.vignetting, "radiance fall-off at the image corner (0 = off)");
+  cmd->add_option("--time-scale", o.time_scale, "play the motion this many times faster")->capture_default_str();
+  cmd->add_option("--wall-behind", o.layout.wall_behind_m, "structure: wall distance behind the zig-zag [m]")
+      ->capture_default_str();
+  cmd->add_option("--view-distance", o.layout.distance_m, "nominal camera distance [m] (0 = the category's)");
+  cmd->add_option("--view-pitch", o.layout.pitch_deg, "nominal view's downward pitch [deg] (0 = the category's)");
+  cmd->add_option("--static-depth-noise", d.static_noise_share,
+                  "share of the depth noise variance that is a fixed pattern (0 = off)");
   cmd->callback([args, cmd] { run_synth(*args, *cmd); });
 }
 

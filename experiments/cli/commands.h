@@ -15,6 +15,7 @@ namespace bivo::experiments::cli {
 void add_run_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
+void add_depth_stats_command(CLI::App& app);
 void add_table_command(CLI::App& app);
 void add_sweep_command(CLI::App& app);
 void add_pareto_command(CLI::App& app);

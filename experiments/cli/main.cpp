@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   ex::add_run_command(app);
   ex::add_eval_command(app);
   ex::add_synth_command(app);
+  ex::add_depth_stats_command(app);
   ex::add_table_command(app);
   ex::add_sweep_command(app);
   ex::add_pareto_command(app);

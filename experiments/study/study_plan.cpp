@@ -33,10 +33,7 @@ struct SequenceFacts {
 SequenceFacts facts(const std::string& dir, const odometry::TrackerOptions& t) {
   SequenceFacts f;
   try {
-    odometry::io::SequenceOptions so;
-    so.max_association_dt = t.max_association_dt;
-    so.intrinsics = t.intrinsics;
-    const odometry::io::TumSequence seq = odometry::io::open_tum_sequence(dir, so);
+    const odometry::io::TumSequence seq = odometry::io::open_tum_sequence(dir, odometry::sequence_options(t));
     f.opened = true;
     f.groundtruth = seq.groundtruth.has_value();
     f.frames = int(seq.frames.size());

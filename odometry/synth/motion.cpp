@@ -156,6 +156,15 @@ io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_of
   return out;
 }
 
+io::Trajectory retime_trajectory(const io::Trajectory& motion, double scale) {
+  if (!(scale > 0 && scale <= 100)) throw Error("trajectory time scale must be in (0, 100], got " + std::to_string(scale));
+  io::Trajectory out = motion;
+  if (scale == 1.0 || out.empty()) return out;
+  const double t0 = motion.front().timestamp;
+  for (io::StampedPose& p : out) p.timestamp = t0 + (p.timestamp - t0) / scale;
+  return out;
+}
+
 Eigen::Isometry3d anchor_transform(const Eigen::Isometry3d& reference_T_wc, const Eigen::Isometry3d& nominal_T_wc) {
   return nominal_T_wc * reference_T_wc.inverse();
 }

@@ -48,6 +48,10 @@ MotionSpeeds mean_speeds(const io::Trajectory& trajectory);
 io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_offset_s, int frames, double fps,
                                const std::string& source, double max_gap_s = 0.1);
 
+// The trajectory played `scale` times faster: t -> t_first + (t - t_first) / scale (fast
+// motion from a real recording). scale 1 returns it unchanged.
+io::Trajectory retime_trajectory(const io::Trajectory& motion, double scale);
+
 // The rigid transform A with A * reference_T_wc = nominal_T_wc. Applying A on the left of
 // every pose moves the whole trajectory rigidly: relative motion T_21 = T_w2^-1 T_w1 is unchanged.
 Eigen::Isometry3d anchor_transform(const Eigen::Isometry3d& reference_T_wc, const Eigen::Isometry3d& nominal_T_wc);

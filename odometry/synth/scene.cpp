@@ -91,7 +91,14 @@ Panel rectangle(const std::string& name, const Eigen::Vector3d& origin, const Ei
 
 }  // namespace
 
-Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
+Scene build_scene(const SynthCategory& category, std::uint64_t seed, const SceneLayout& layout) {
+  if (!(layout.wall_behind_m > 0.1 && layout.wall_behind_m <= 20.0) ||
+      !(layout.distance_m == 0.0 || (layout.distance_m > 0.1 && layout.distance_m <= 20.0)) ||
+      !(layout.pitch_deg >= 0.0 && layout.pitch_deg <= 89.0)) {
+    throw Error("scene layout: wall distance " + std::to_string(layout.wall_behind_m) + " m and camera distance " +
+                std::to_string(layout.distance_m) + " m must be in (0.1, 20] m (distance 0 = the category's), pitch " +
+                std::to_string(layout.pitch_deg) + " deg in [0, 89]");
+  }
   Scene s;
   s.category = category;
   s.seed = seed;
@@ -125,7 +132,7 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
   s.materials.push_back(Material{"wall", {wall_tex}, 2.0, 2.0});
 
   const Eigen::Vector3d along(2 * kHalfLength, 0, 0);
-  const double d = category.distance_m();
+  const double d = layout.distance_m > 0 ? layout.distance_m : category.distance_m();
   // Nominal view: looking straight at the scene (along +y), pitched down as the real fr3
   // recordings are (their optical axes meet the floor 1.36 / 2.16 m in front of the camera
   // at heights 0.88 / 1.09 m, structure near / far; nostructure_texture_near_withloop:
@@ -134,7 +141,8 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
   if (category.structure) {
     // Zig-zag profile in the (x, y) plane: vertical fold lines every kFoldPitch along x,
     // alternating between y = 0 (towards the camera) and y = kFoldDepth; 1 m high.
-    constexpr double kFoldPitch = 0.5, kFoldDepth = 0.4, kHeight = 1.0, kWallY = kFoldDepth + 1.5;
+    constexpr double kFoldPitch = 0.5, kFoldDepth = 0.4, kHeight = 1.0;
+    const double kWallY = kFoldDepth + layout.wall_behind_m;
     const int n = static_cast<int>(std::lround(2 * kHalfLength / kFoldPitch));
     for (int i = 0; i < n; ++i) {
       const Eigen::Vector3d a(-kHalfLength + i * kFoldPitch, i % 2 ? kFoldDepth : 0.0, 0.0);
@@ -152,7 +160,7 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
     s.panels.push_back(rectangle("wall", {-kHalfLength, kWallY, 0.0}, along, {0, 0, 3.0}, 2));
     // The optical axis meets the zig-zag's mid plane (y = kFoldDepth / 2) mid-panel, at the
     // height that puts the camera at the real one: low, so floor and panels share the view.
-    pitch_deg = category.near ? 31.0 : 27.0;
+    pitch_deg = layout.pitch_deg > 0 ? layout.pitch_deg : (category.near ? 31.0 : 27.0);
     const double camera_height = category.near ? 0.88 : 1.09;
     s.target = Eigen::Vector3d(0.5 * kFoldPitch, 0.5 * kFoldDepth,
                                camera_height - d * std::sin(pitch_deg * M_PI / 180.0));
@@ -160,6 +168,7 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed) {
     s.panels.push_back(rectangle("plane", {-kHalfLength, -4.0, 0.0}, along, {0, 16.0, 0}, 0));
     s.target = Eigen::Vector3d::Zero();
   }
+  if (layout.pitch_deg > 0) pitch_deg = layout.pitch_deg;
   const double pitch = pitch_deg * M_PI / 180.0;
   const Eigen::Vector3d dir(0.0, std::cos(pitch), -std::sin(pitch));
   s.nominal_T_wc = look_at(s.target - d * dir, s.target);

@@ -83,8 +83,19 @@ struct Scene {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // the point the nominal camera looks at
 };
 
-// Builds the scene of `category`; textures are generated from `seed`.
-Scene build_scene(const SynthCategory& category, std::uint64_t seed);
+// Variants of a category's geometry and nominal view; the defaults are the benchmark's
+// scenes. Far background: a wall farther back and a camera farther away put much of the
+// image beyond 3 m, as in real office recordings (docs/synthetic.md, "Sensor defects").
+struct SceneLayout {
+  double wall_behind_m = 1.5;  // structure: the wall's distance behind the zig-zag's back folds
+  double distance_m = 0.0;     // nominal camera-to-target distance; 0 = category.distance_m()
+  double pitch_deg = 0.0;      // nominal view's downward pitch; 0 = the category's
+};
+
+// Builds the scene of `category`; textures are generated from `seed`. Throws bivo::Error
+// when a layout value is outside (0.1, 20] m (0 keeps the distance) or the pitch outside
+// [0, 89] degrees (0 keeps the category's).
+Scene build_scene(const SynthCategory& category, std::uint64_t seed, const SceneLayout& layout = {});
 
 // Camera pose at `eye` looking at `target` with image "up" towards world +z
 // (camera axes: x right, y down, z forward).

@@ -16,6 +16,8 @@
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/input_limits.h"
 #include "odometry/io/png_io.h"
+#include "odometry/io/pose_error.h"
+#include "odometry/synth/exposure.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry::synth {
@@ -41,7 +43,7 @@ json pose_json(const Eigen::Isometry3d& T) {
 
 json scene_json(const SynthOptions& o, const Scene& scene, const std::string& motion_source,
                 const Eigen::Isometry3d& anchor, int anchor_frame, const io::Trajectory& poses,
-                const std::vector<RenderedFrame>& stats) {
+                const std::vector<RenderedFrame>& stats, const std::vector<double>& depth_delays) {
   const RenderSettings& r = o.render;
   json panels = json::array();
   for (const Panel& p : scene.panels) {
@@ -66,7 +68,7 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
     gains.push_back(f.exposure_gain);
   }
   const MotionSpeeds speeds = mean_speeds(poses);
-  return json{
+  json out = json{
       {"generator", "bivo synth"},
       {"category", o.category.name()},
       {"structure", o.category.structure},
@@ -119,6 +121,34 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
         {"valid_depth_fraction_max", vmax},
         {"exposure_gains", gains}}},
   };
+  // Written only when used, so renderings without them keep their bytes.
+  if (o.time_scale != 1.0) out["motion"]["time_scale"] = o.time_scale;
+  const SceneLayout default_layout;
+  if (o.layout.wall_behind_m != default_layout.wall_behind_m || o.layout.distance_m != default_layout.distance_m ||
+      o.layout.pitch_deg != default_layout.pitch_deg) {
+    out["scene"]["layout"] = {{"wall_behind_m", o.layout.wall_behind_m},
+                              {"distance_m", o.layout.distance_m},
+                              {"pitch_deg", o.layout.pitch_deg}};
+  }
+  const SensorDefects& d = r.defects;
+  if (d.any()) {
+    out["sensor_defects"] = {{"bias_radial", d.bias_radial},
+                             {"static_noise_share", d.static_noise_share},
+                             {"bias_lowfreq", d.bias_lowfreq},
+                             {"bias_wavelength_px", d.bias_wavelength_px},
+                             {"depth_offset_m", vec(d.depth_offset_m)},
+                             {"depth_rotation_rad", vec(d.depth_rotation_rad)},
+                             {"depth_delay_s", json::array({d.depth_delay_min_s, d.depth_delay_max_s})},
+                             {"depth_delay_step_s", d.depth_delay_step_s},
+                             {"readout_s", d.readout_s},
+                             {"exposure_s", d.exposure_s},
+                             {"blur_samples", d.blur_samples},
+                             {"gain_step", d.gain_step},
+                             {"gain_memory", d.gain_memory},
+                             {"vignetting", d.vignetting}};
+    out["stats"]["depth_delays_s"] = depth_delays;
+  }
+  return out;
 }
 
 // Every option is checked before any work: motion generation, rendering or a file.
@@ -139,6 +169,17 @@ void validate(const SynthOptions& o) {
   }
   if (o.threads < 0 || o.threads > 256) {
     throw Error("synth: --threads must be in 0..256, got " + std::to_string(o.threads));
+  }
+  if (!(o.time_scale > 0 && o.time_scale <= 100)) {
+    throw Error("synth: --time-scale must be in (0, 100], got " + std::to_string(o.time_scale));
+  }
+  // Nearest-timestamp association must pair each depth image with its own colour image.
+  const SensorDefects& d = o.render.defects;
+  if (!(std::fabs(d.depth_delay_min_s) < 0.5 / o.fps && std::fabs(d.depth_delay_max_s) < 0.5 / o.fps)) {
+    std::ostringstream m;
+    m << "synth: depth delays [" << d.depth_delay_min_s << ", " << d.depth_delay_max_s
+      << "] s must stay within half a frame (" << 0.5 / o.fps << " s)";
+    throw Error(m.str());
   }
   try {
     synth::validate(o.render);
@@ -172,7 +213,8 @@ std::string default_sequence_name(const SynthCategory& category) {
 io::Trajectory frame_poses(const SynthOptions& o, const Scene& scene, const io::Trajectory& motion,
                        const std::string& motion_source, Eigen::Isometry3d* anchor) {
   validate(o);
-  io::Trajectory poses = resample_trajectory(motion, o.start_offset_s, o.frames, o.fps, motion_source);
+  io::Trajectory poses =
+      resample_trajectory(retime_trajectory(motion, o.time_scale), o.start_offset_s, o.frames, o.fps, motion_source);
   const int ref = o.anchor_frame < 0 ? o.frames / 2 : o.anchor_frame;
   const Eigen::Isometry3d A = anchor_transform(poses[ref].T_wc, scene.nominal_T_wc);
   for (auto& p : poses) p.T_wc = A * p.T_wc;
@@ -184,7 +226,7 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
                             const std::string& motion_source) {
   validate(o);
   const std::string name = o.sequence_name.empty() ? default_sequence_name(o.category) : o.sequence_name;
-  const Scene scene = build_scene(o.category, o.seed);
+  const Scene scene = build_scene(o.category, o.seed, o.layout);
   Eigen::Isometry3d anchor;
   const io::Trajectory planned = frame_poses(o, scene, motion, motion_source, &anchor);
   const int ref = o.anchor_frame < 0 ? o.frames / 2 : o.anchor_frame;
@@ -215,10 +257,27 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
     RenderSettings settings = o.render;
     settings.noise_seed = o.seed;
     std::vector<RenderedFrame> stats(o.frames);
-    std::vector<std::string> stamps(o.frames);
+    std::vector<std::string> stamps(o.frames), depth_stamps(o.frames);
+    std::vector<double> delays(o.frames);
+    const SensorDefects& defects = settings.defects;
+    const bool timed = defects.timed_colour() || defects.misregistered() || defects.unsynchronized();
+    const io::Trajectory timeline = retime_trajectory(motion, o.time_scale);
+    const double t_first = timeline.front().timestamp + o.start_offset_s;
     const auto render_and_write = [&](int k) {
-      RenderedFrame f = render_frame(scene, poses[k].T_wc, settings, static_cast<std::uint64_t>(k));
+      const auto k64 = static_cast<std::uint64_t>(k);
+      // Sub-frame times interpolate the motion (times outside it hold its end pose).
+      const PoseAtTime pose_at = [&](double dt) -> Eigen::Isometry3d {
+        if (dt == 0.0) return poses[k].T_wc;
+        const double t = std::clamp(t_first + k / o.fps + dt, timeline.front().timestamp, timeline.back().timestamp);
+        const auto T = io::interpolate_pose(timeline, t, 0.1);
+        if (!T) throw Error("synth: no pose of '" + motion_source + "' near t=" + std::to_string(t) + " (gap)");
+        return anchor * *T;
+      };
+      RenderedFrame f = timed ? render_timed_frame(scene, pose_at, settings, k64)
+                              : render_frame(scene, poses[k].T_wc, settings, k64);
       stamps[k] = stamp(poses[k].timestamp);
+      delays[k] = depth_delay(defects, settings.noise_seed, k64);
+      depth_stamps[k] = stamp(poses[k].timestamp + delays[k]);
       io::Png8 rgb;
       rgb.width = f.width;
       rgb.height = f.height;
@@ -229,7 +288,7 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
       depth.width = f.width;
       depth.height = f.height;
       depth.data = std::move(f.depth);
-      io::write_png16((tmp_dir / ("depth/" + stamps[k] + ".png")).string(), depth);
+      io::write_png16((tmp_dir / ("depth/" + depth_stamps[k] + ".png")).string(), depth);
       f.true_depth.clear();
       stats[k] = std::move(f);
     };
@@ -255,10 +314,10 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
     rgb_list << "# color images\n# synthetic: " << name << "\n# timestamp filename\n";
     depth_list << "# depth maps\n# synthetic: " << name << "\n# timestamp filename\n";
     for (int k = 0; k < o.frames; ++k) {
-      const std::string rgb_rel = "rgb/" + stamps[k] + ".png", depth_rel = "depth/" + stamps[k] + ".png";
+      const std::string rgb_rel = "rgb/" + stamps[k] + ".png", depth_rel = "depth/" + depth_stamps[k] + ".png";
       rgb_list << stamps[k] << ' ' << rgb_rel << '\n';
-      depth_list << stamps[k] << ' ' << depth_rel << '\n';
-      assoc << stamps[k] << ' ' << rgb_rel << ' ' << stamps[k] << ' ' << depth_rel << '\n';
+      depth_list << depth_stamps[k] << ' ' << depth_rel << '\n';
+      assoc << stamps[k] << ' ' << rgb_rel << ' ' << depth_stamps[k] << ' ' << depth_rel << '\n';
     }
     const auto write_text = [&](const char* file, const std::string& text) {
       io::write_file_atomically((tmp_dir / file).string(), [&](std::ostream& out) { out << text; });
@@ -266,7 +325,7 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
     write_text("rgb.txt", rgb_list.str());
     write_text("depth.txt", depth_list.str());
     write_text("associations.txt", assoc.str());
-    write_text("scene.json", scene_json(o, scene, motion_source, anchor, ref, poses, stats).dump(2) + "\n");
+    write_text("scene.json", scene_json(o, scene, motion_source, anchor, ref, poses, stats, delays).dump(2) + "\n");
 
     fs::remove_all(final_dir);
     fs::rename(tmp_dir, final_dir);
@@ -285,7 +344,9 @@ std::string render_sequence(const SynthOptions& o, const std::string& output_dir
   HandheldMotionOptions h = o.handheld;
   h.seed = o.seed;
   // Cover the requested frames plus one second of slack.
-  const double span = o.start_offset_s + (o.frames - 1) / o.fps + 1.0;
+  const double clock_span = o.start_offset_s + (o.frames - 1) / o.fps + 1.0;
+  // Played time_scale times faster, the motion must last time_scale times longer.
+  const double span = o.time_scale == 1.0 ? clock_span : clock_span * o.time_scale;
   if (!(span * h.rate_hz < static_cast<double>(io::input_limits().max_list_entries))) {
     std::ostringstream m;
     m << "synth: --start " << o.start_offset_s << " s and --frames " << o.frames << " at --fps " << o.fps

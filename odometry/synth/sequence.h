@@ -37,6 +37,10 @@ struct SynthOptions {
   // Which frame of the sequence is re-anchored to the scene's nominal viewing pose:
   // -1 = the middle frame (keeps the scene in view best over the whole sequence).
   int anchor_frame = -1;
+  // Fast motion: the trajectory is played time_scale times faster (frame k shows the pose
+  // at start + time_scale * k / fps seconds of the original recording's clock).
+  double time_scale = 1.0;
+  SceneLayout layout;      // scene variant (far background); defaults = the benchmark's scenes
   RenderSettings render;   // camera (freiburg3 defaults), sensor models, supersampling
   // Generated motion when none is given; its seed is overwritten by `seed`.
   HandheldMotionOptions handheld;
