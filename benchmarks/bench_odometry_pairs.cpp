@@ -197,7 +197,8 @@ void BM_RpyStream(benchmark::State& state, const std::string& method, int finest
 void register_cases() {
   for (int finest : {0, 1}) {
     const std::string at = finest == 0 ? "/640x480" : "/320x240";
-    for (const char* m : {"single", "depth", "fixed", "tykkala", "weighted", "bounded"}) {
+    // joint and robust beside weighted and single: robust's budget is 1.3x weighted's CPU per pair.
+    for (const char* m : {"single", "depth", "fixed", "tykkala", "weighted", "bounded", "joint", "robust"}) {
       benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + at).c_str(), BM_RpyPairs, std::string(m), finest,
                                    1, 0.0, false)
           ->Unit(benchmark::kMillisecond)

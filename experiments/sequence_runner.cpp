@@ -81,7 +81,7 @@ std::string run_summary_line(const RunOutcome& run) {
 
 void write_pair_log(std::ostream& o, const RunOutcome& run) {
   o << "pair,t_reference,t_current,valid,iterations,ms,cpu_ms,load_ms,lambda,epsilon,mu,epsilon_per_weight,f_i,"
-       "f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,note\n";
+       "f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,trust,note\n";
   for (const auto& p : run.pairs) {
     o << std::setprecision(17) << p.index << "," << p.t_reference << "," << p.t_current << "," << (p.valid ? 1 : 0)
       << "," << p.iterations << std::setprecision(8) << "," << 1000.0 * p.seconds << "," << 1000.0 * p.cpu_seconds
@@ -93,7 +93,7 @@ void write_pair_log(std::ostream& o, const RunOutcome& run) {
     o << ",";
     if (p.error) o << p.error->translation_m << "," << p.error->rotation_deg;
     else o << ",";
-    o << "," << p.correlation << "," << p.relaxed_levels << "," << csv_field(p.note) << "\n";
+    o << "," << p.correlation << "," << p.relaxed_levels << "," << p.trust << "," << csv_field(p.note) << "\n";
   }
 }
 

@@ -60,7 +60,7 @@ RunOutcome run_sequence(const RunRequest& request,
 std::string run_summary_line(const RunOutcome& run);
 
 // Per-pair CSV: pair,t_reference,t_current,valid,iterations,ms,cpu_ms,load_ms,lambda,epsilon,
-// mu,epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,note
+// mu,epsilon_per_weight,f_i,f_d,trans_err_m,rot_err_deg,correlation,relaxed_levels,trust,note
 // (errors empty without ground truth; f_i / f_d empty when not evaluated, see
 // TrackerOptions::evaluate_unused_objective).
 void write_pair_log(const std::string& path, const RunOutcome& run);

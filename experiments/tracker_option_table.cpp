@@ -112,6 +112,13 @@ std::vector<TrackerOption> build_table() {
       number("policy.relaxed_tolerance", "--relaxed-tolerance", 0.0, kInf,
              "relative merit change to which a relaxed level's photometric solution is finished",
              BIVO_FIELD(policy.relaxed_tolerance), "noise-bounded"),
+      number("policy.trust", "--trust", 0.0, kInf,
+             "depth trust statistic (photometric distance of the bi-objective estimate, in sigma_I^2) above "
+             "which a level falls back to F_I alone",
+             BIVO_FIELD(policy.trust), "robust"),
+      integer("policy.photometric_start_levels", "--photometric-start-levels", 0, 8,
+              "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off)",
+              BIVO_FIELD(policy.photometric_start_levels)),
       integer("levels", "--levels", 1, 8, "pyramid levels (640x480 down to 640/2^(L-1))", BIVO_FIELD(levels)),
       integer("finest_level", "--finest-level", 0, 7,
               "finest pyramid level solved (0 = full resolution, 1 = half, ...; below --levels)",

@@ -17,7 +17,8 @@ constexpr MethodName kMethods[] = {{Method::kSingle, "single"},   {Method::kDept
                                    {Method::kFixed, "fixed"},     {Method::kTykkala, "tykkala"},
                                    {Method::kWeighted, "weighted"}, {Method::kBounded, "bounded"},
                                    {Method::kJoint, "joint"},       {Method::kScaled, "scaled"},
-                                   {Method::kNoiseBounded, "noise-bounded"}};
+                                   {Method::kNoiseBounded, "noise-bounded"},
+                                   {Method::kRobust, "robust"}};
 
 // The statistics a policy value came from, for messages.
 std::string statistics_text(const FrameStatistics& s) {
@@ -88,6 +89,8 @@ bool is_bounded(Method method) { return method == Method::kBounded || method == 
 
 bool lambda_from_residuals(Method method) { return method == Method::kJoint || method == Method::kScaled; }
 
+bool uses_joint_weights(Method method) { return method == Method::kJoint || method == Method::kRobust; }
+
 std::string default_backend(Method method) { return is_bounded(method) ? "exact" : "gn"; }
 
 bool reads_medians(Method method) { return method == Method::kTykkala; }
@@ -117,6 +120,7 @@ std::optional<double> frame_lambda(Method method, const FrameStatistics& s, cons
     case Method::kWeighted: return defined(adaptive_formula(s, p.phi), kAdaptiveWhat, s, why);
     case Method::kJoint:
     case Method::kScaled:
+    case Method::kRobust:
       throw Error(std::string("method '") + to_string(method) +
                   "' has no per-frame lambda (it is estimated at every linearization from the residuals)");
     case Method::kBounded:
@@ -132,7 +136,7 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
 }
 
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p) {
-  if (method == Method::kJoint) return stats.joint_scale.implied_lambda();
+  if (method == Method::kJoint || method == Method::kRobust) return stats.joint_scale.implied_lambda();
   if (method == Method::kScaled) {
     const double si = stats.sigma_intensity, sd = stats.sigma_depth;
     return sd > 0.0 && std::isfinite(si) ? p.kappa * (si * si) / (sd * sd) : 0.0;
@@ -142,7 +146,7 @@ double residual_lambda(Method method, const RgbdLinearizationStats& stats, const
 
 JacobianKind method_jacobian(Method method, JacobianKind requested) {
   if (requested != JacobianKind::kMethodDefault) return requested;
-  return method == Method::kJoint ? JacobianKind::kInverse : JacobianKind::kForward;
+  return uses_joint_weights(method) ? JacobianKind::kInverse : JacobianKind::kForward;
 }
 
 }  // namespace bivo::odometry

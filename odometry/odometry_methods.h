@@ -19,6 +19,9 @@
 //             photometric solution; guard: when F_I rises by more than guard * sigma_I^2 (its
 //             noise variance: a chi-square-like test of the photometric data) they reject the
 //             bound (biased depth) and it is relaxed (x_I kept).
+//   robust    per level: joint's weighted sum, then the depth trust test (depth_trust.h) at its
+//             estimate; when the photometric data reject it (T > trust), that level and every
+//             finer one are solved on F_I alone from there (the default for an unknown sensor).
 // Statistics are those of the reference frame at full resolution (image_statistics.h).
 //
 // eps_D is a bound on F_D = sum_i w_i r_D,i^2, which grows with the number of valid pixels
@@ -34,7 +37,7 @@
 
 namespace bivo::odometry {
 
-enum class Method { kSingle, kDepth, kFixed, kTykkala, kWeighted, kBounded, kJoint, kScaled, kNoiseBounded };
+enum class Method { kSingle, kDepth, kFixed, kTykkala, kWeighted, kBounded, kJoint, kScaled, kNoiseBounded, kRobust };
 
 // Unknown name -> bivo::Error listing the valid ones.
 Method parse_method(const std::string& name);
@@ -43,6 +46,8 @@ std::vector<std::string> method_names();
 bool is_bounded(Method method);  // bounded, noise-bounded: epsilon-constraint steps
 // joint, scaled: lambda is chosen per linearization from the residuals (residual_lambda()).
 bool lambda_from_residuals(Method method);
+// joint, robust: one bivariate-t weight per pixel (joint_weights.h).
+bool uses_joint_weights(Method method);
 // "gn" for the weighted-sum methods, "exact" for bounded.
 std::string default_backend(Method method);
 
@@ -68,6 +73,14 @@ struct PolicyParameters {
   // scale, hence its whole cost, at every linearization: at 1e-3 it stopped while the weights
   // still moved the estimate (fr1/rpy 1.07x single, 1.03x at 1e-5; docs/odometry.md).
   double joint_tolerance = 1e-5;
+  // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
+  // level's bi-objective estimate is rejected for the photometric one; chosen by
+  // leave-one-sequence-out (docs/odometry.md, "robust").
+  double trust = 300.0;
+  // methods joint, robust: the coarsest N levels first solve F_I alone (own t-weights) and
+  // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
+  // fall into the depth objective's basin at 80x60; the textureless renderings unchanged).
+  int photometric_start_levels = 1;
 };
 
 // Whether the method's per-frame rule reads the frame's medians (FrameStatistics::has_medians

@@ -151,6 +151,16 @@ void RgbdOdometryProblem::set_jacobian(JacobianKind kind) {
   last_linearization_.reset();
 }
 
+void RgbdOdometryProblem::set_objectives(bool joint_weights, bool model_f2) {
+  options_.joint_weights = joint_weights;
+  options_.model_f2 = model_f2;
+  weights_mask_ = ObjectiveMask{false, false};  // weights of the other weighting are not reused
+  if (!joint_weights) stats_.joint_scale = JointScale{};
+  warp_x_.resize(0);
+  f_at_warp_.reset();
+  last_linearization_.reset();
+}
+
 void RgbdOdometryProblem::check_x(const Eigen::VectorXd& x) const {
   if (x.size() != 7) throw Error("RGB-D problem: x must be the 7-vector [t; q], got size " + std::to_string(x.size()));
   if (!x.allFinite()) throw Error("RGB-D problem: x contains NaN or Inf");

@@ -115,6 +115,11 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // gradients exist only when the problem was built with a non-forward kind; asking for them
   // otherwise throws bivo::Error.
   void set_jacobian(JacobianKind kind);
+  // Switches the weighting (joint bivariate-t or one t per objective) and whether F_2 is
+  // modelled, for later linearizations; every weight is re-estimated at the next one (the
+  // scales are kept as warm starts). Method robust leaves joint's weighted sum for the
+  // photometric objective alone when the depth fails its trust test.
+  void set_objectives(bool joint_weights, bool model_f2);
 
  private:
   ObjectiveMask modelled() const;

@@ -14,6 +14,7 @@
 
 #include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
+#include "odometry/robust_level.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
 #include "solvers/outer_loop.h"
@@ -120,6 +121,9 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.relaxed_tolerance >= 0.0 && std::isfinite(options.policy.relaxed_tolerance))) {
     throw Error("relaxed tolerance must be finite and >= 0, got " + std::to_string(options.policy.relaxed_tolerance));
   }
+  if (!(options.policy.trust >= 0.0 && std::isfinite(options.policy.trust))) {
+    throw Error("trust threshold must be finite and >= 0, got " + std::to_string(options.policy.trust));
+  }
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
@@ -202,7 +206,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   if (method == Method::kBounded) {
     eps_bar = bounded_epsilon_per_weight(policy_statistics(method, reference, options.problem.threads), options.policy);
     result.epsilon_per_weight = eps_bar;
-  } else if (!is_bounded(method) && !lambda_from_residuals(method)) {
+  } else if (!is_bounded(method) && !lambda_from_residuals(method) && method != Method::kRobust) {
     std::string why;
     const std::optional<double> defined =
         frame_lambda(method, policy_statistics(method, reference, options.problem.threads), options.policy, &why);
@@ -220,7 +224,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   }
   RgbdProblemOptions problem_options = options.problem;
   problem_options.depth_first = method == Method::kDepth;
-  problem_options.joint_weights = method == Method::kJoint;
+  problem_options.joint_weights = uses_joint_weights(method);
   problem_options.jacobian = method_jacobian(method, problem_options.jacobian);
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
@@ -231,7 +235,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solver_options.max_iterations = options.max_iterations;
   solver_options.step_tolerance = options.step_tolerance;
   solver_options.relative_decrease_tolerance =
-      method == Method::kJoint ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
+      uses_joint_weights(method) ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
+  // method robust: once a level's depth failed the trust test, the finer levels are
+  // photometric (a biased sensor is biased at every resolution).
+  bool depth_distrusted = false;
   solver_options.max_step_extrapolation = options.step_extrapolation;
   solver_options.profile = &result.profile;
   solver_options.verbosity = options.verbosity;
@@ -244,7 +251,13 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     LevelResult lr;
     lr.level = level;
     const auto t_reference = Clock::now();
-    RgbdOdometryProblem problem(reference.pyramid.levels[level], current.pyramid.levels[level], problem_options);
+    RgbdProblemOptions level_options = problem_options;
+    if (depth_distrusted) {  // robust: single's problem
+      level_options.joint_weights = false;
+      level_options.model_f2 = false;
+      level_options.jacobian = JacobianKind::kForward;
+    }
+    RgbdOdometryProblem problem(reference.pyramid.levels[level], current.pyramid.levels[level], level_options);
     result.profile.add("reference", seconds_since(t_reference));
     lr.terms = problem.num_terms();
     if (lr.terms < options.min_valid_pixels) {
@@ -265,11 +278,24 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
         };
         solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
       }
-      const auto run = [&](const solvers::Scalarization& scalarization) {
-        return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, solver_options)
-                             : solvers::solve(problem, scalarization, *step_backend, x, solver_options);
+      const auto run_with = [&](const solvers::Scalarization& scalarization, const solvers::SolverOptions& so) {
+        return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, so)
+                             : solvers::solve(problem, scalarization, *step_backend, x, so);
       };
+      const auto run = [&](const solvers::Scalarization& scalarization) { return run_with(scalarization, solver_options); };
       RgbdOdometryProblem* p = &problem;
+      if (method == Method::kRobust) {
+        if (depth_distrusted) {
+          lr.relaxed = true;
+          return run(solvers::WeightedSum(0.0));
+        }
+        const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
+                                                  level == options.finest_level ? options.exact_finish_iterations : 0, x);
+        lr.relaxed = depth_distrusted = rl.distrusted;
+        lr.trust = rl.statistic;
+        level_lambda = rl.lambda;
+        return rl.summary;
+      }
       if (method == Method::kBounded) {
         // eps_D = eps_bar * trace(Omega_D) of this linearization (odometry_methods.h).
         return run(solvers::EpsilonConstraint(
@@ -291,11 +317,23 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       }
       return run(solvers::WeightedSum(lambda));
     };
+    int start_iterations = 0;
+    if (uses_joint_weights(method) && !depth_distrusted && level >= levels - options.policy.photometric_start_levels) {
+      // The photometric objective's basin is the wider one for large rotations (the depth
+      // objective's landscape folds where points change surface): F_I alone first, with its
+      // own weights, then the bi-objective solve from there.
+      problem.set_objectives(false, false);
+      start_iterations = (whole_problem ? solvers::solve(problem, solvers::WeightedSum(0.0), backend_name, x, solver_options)
+                                        : solvers::solve(problem, solvers::WeightedSum(0.0), *step_backend, x, solver_options))
+                             .iterations;
+      problem.set_objectives(true, true);
+    }
     solvers::Summary summary = solve_level();
+    summary.iterations += start_iterations;
     // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
     // point is not the cost's stationary point; the exact finish continues the finest level
     // from there with current-side gradients (TrackerOptions::exact_finish_iterations).
-    if (options.exact_finish_iterations > 0 && level == options.finest_level &&
+    if (method != Method::kRobust && options.exact_finish_iterations > 0 && level == options.finest_level &&
         problem_options.jacobian != JacobianKind::kForward && x.allFinite()) {
       const int first_iterations = summary.iterations;
       problem.set_jacobian(JacobianKind::kForward);  // weights and scales carried over
@@ -346,6 +384,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       lr.correlation = stats.joint_scale.correlation();
       result.lambda = lr.lambda;
       result.correlation = lr.correlation;
+      result.trust = lr.trust;
     }
     result.f_i = lr.f_i;
     result.f_d = lr.f_d;
@@ -371,7 +410,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   }
   RgbdProblemOptions po = options.problem;
   po.depth_first = parse_method(options.method) == Method::kDepth;
-  po.joint_weights = parse_method(options.method) == Method::kJoint;
+  po.joint_weights = uses_joint_weights(parse_method(options.method));
   po.jacobian = method_jacobian(parse_method(options.method), po.jacobian);
   po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);

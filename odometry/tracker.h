@@ -132,6 +132,8 @@ struct LevelResult {
   double lambda = 0.0;      // weighted sum: lambda used (joint, scaled: at the last step)
   double correlation = 0.0; // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
   bool relaxed = false;     // noise-bounded: the guard relaxed the bound (x_I kept)
+  double trust = 0.0;       // robust: the depth trust statistic T at the level's bi-objective estimate
+                            // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved)
   double guard_rise = 0.0;  // noise-bounded: (F_I(bounded) - F_I(x_I)) / sigma_I^2, the guard's statistic
   double epsilon = 0.0;     // bounded: epsilon bound on F_D at the last step
   double mu = 0.0;          // bounded: multiplier of the last step (+inf: infeasible)
@@ -148,7 +150,9 @@ struct PairResult {
   int iterations = 0;                    // outer iterations over all levels
   double lambda = 0.0, epsilon = 0.0, mu = 0.0;  // at the finest level solved (joint: implied lambda)
   double correlation = 0.0;              // joint: rho of S at the finest level solved
-  int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed
+  int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed;
+                                         // robust: levels solved on F_I alone (depth distrusted)
+  double trust = 0.0;                    // robust: trust statistic at the finest level solved
   double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
   double f_i = 0.0, f_d = 0.0;           // at the finest level solved
   double seconds = 0.0;                  // track_sequence: the estimation and a frame's pyramid

@@ -26,6 +26,7 @@ void add_conic_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_work_command(CLI::App& app);
 void add_merge_command(CLI::App& app);
+void add_loso_command(CLI::App& app);
 
 // The flags of a study command (table, sweep, pareto, report), shared by the command itself
 // and by `bivo plan KIND`: add_<kind>_flags adds them to `cmd` and returns the function that

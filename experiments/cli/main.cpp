@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   ex::add_plan_command(app);
   ex::add_work_command(app);
   ex::add_merge_command(app);
+  ex::add_loso_command(app);
   // Exit codes: 0 when every unit produced its result, 2 for a usage error (the command line
   // does not parse: unknown flag, missing or malformed value), 1 for every other error.
   try {

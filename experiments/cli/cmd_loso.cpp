@@ -1,0 +1,42 @@
+// `bivo loso --sequences DIR... --grid V... --output DIR`: leave-one-sequence-out
+// (experiments/loso.h): the method's parameter is chosen on all sequences but the held-out
+// one, whose RPE alone is reported.
+#include <iostream>
+#include <memory>
+
+#include "experiments/cli/commands.h"
+#include "experiments/cli/tracker_flags.h"
+#include "experiments/loso.h"
+#include "experiments/output_set.h"
+
+namespace bivo::experiments::cli {
+
+void add_loso_command(CLI::App& app) {
+  CLI::App* cmd = app.add_subcommand(
+      "loso", "Leave-one-sequence-out: a method's parameter chosen without the sequence it is reported on");
+  struct Args {
+    std::shared_ptr<TrackerFlags> tracker;
+    LosoOptions o;
+    std::string output;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--sequences", a->o.sequences, "TUM sequence folders with groundtruth.txt (at least 2)")->required();
+  cmd->add_option("--method", a->o.method, "the method whose parameter is chosen")->capture_default_str();
+  cmd->add_option("--parameter", a->o.parameter, "its policy parameter (e.g. trust, kappa, guard)")
+      ->capture_default_str();
+  cmd->add_option("--grid", a->o.grid, "candidate values of the parameter")->required();
+  cmd->add_option("--reference", a->o.reference, "the method the ratios are taken to")->capture_default_str();
+  cmd->add_option("--methods", a->o.methods, "methods reported beside, at their defaults (no choice)");
+  cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
+  cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
+  a->tracker = std::make_shared<TrackerFlags>(cmd, false);
+  cmd->add_option("--output", a->output, "folder for loso.md / loso.csv / runs.csv / pairs.csv")->required();
+  cmd->callback([a] {
+    check_output_folder({"--output", a->output});
+    LosoOptions o = a->o;
+    o.tracker = a->tracker->options();
+    std::cout << write_loso(run_loso(o), a->output);
+  });
+}
+
+}  // namespace bivo::experiments::cli
