@@ -18,13 +18,13 @@
 
 #include <benchmark/benchmark.h>
 
-#include "solvers/step/qcqp_socp.h"
-#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"
 #include "solvers/step/ipopt_qcqp_backend.h"
 #include "solvers/step/nlopt_slsqp_backend.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 
 namespace {
 

@@ -14,8 +14,8 @@
 
 #include "odometry/reference_terms.h"
 #include "odometry/tracker.h"
-#include "solvers/pareto.h"
 #include "solvers/geometry/se3.h"
+#include "solvers/pareto.h"
 
 namespace {
 
@@ -34,16 +34,19 @@ const FramePair* shared_pair() {
   return pair.get();
 }
 
-#define BIVO_NEED_PAIR(pair)                                                \
-  const FramePair* pair = shared_pair();                                    \
-  if (!pair) {                                                              \
-    state.SkipWithError(("shared data absent: " + kSequence).c_str());      \
-    return;                                                                 \
+#define BIVO_NEED_PAIR(pair)                                           \
+  const FramePair* pair = shared_pair();                               \
+  if (!pair) {                                                         \
+    state.SkipWithError(("shared data absent: " + kSequence).c_str()); \
+    return;                                                            \
   }
 
 // Benchmark argument -> kernels: 0 scalar, 1 avx2, 2 avx512vl, 3 avx512 (sixteen lanes).
 KernelIsa isa_of(std::int64_t arg) {
-  return arg == 3 ? KernelIsa::kAvx512 : arg == 2 ? KernelIsa::kAvx512Vl : arg == 1 ? KernelIsa::kAvx2 : KernelIsa::kScalar;
+  return arg == 3   ? KernelIsa::kAvx512
+         : arg == 2 ? KernelIsa::kAvx512Vl
+         : arg == 1 ? KernelIsa::kAvx2
+                    : KernelIsa::kScalar;
 }
 
 void BM_OdometryPair(benchmark::State& state, const std::string& method, const std::string& backend) {
@@ -194,7 +197,8 @@ void BM_ParetoSweep32(benchmark::State& state) {
   state.counters["sweep_ms"] = 1000.0 * sweep_s / solves;
   state.counters["sweep_over_solve"] = sweep_s / solve_s;
   state.counters["sweep_iterations"] = iterations;  // outer iterations of the 32 points
-  for (const auto& [phase, seconds] : phases.all()) state.counters["sweep_" + phase + "_ms"] = 1000.0 * seconds / solves;
+  for (const auto& [phase, seconds] : phases.all())
+    state.counters["sweep_" + phase + "_ms"] = 1000.0 * seconds / solves;
 }
 
 // Reading the level-0 working set (~14 MB: reference terms, residual, gradient and weight
@@ -228,8 +232,10 @@ BENCHMARK_CAPTURE(BM_OdometryPair, weighted, std::string("weighted"), std::strin
 BENCHMARK_CAPTURE(BM_OdometryPair, bounded, std::string("bounded"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, joint, std::string("joint"), std::string(""))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_OdometryPair, scaled, std::string("scaled"), std::string(""))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, noise_bounded, std::string("noise-bounded"), std::string(""))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_OdometryPair, weighted_lm, std::string("weighted"), std::string("lm"))
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OdometryPrepareFrame)
     ->ArgNames({"threads", "statistics"})
     ->Args({1, 0})

@@ -52,9 +52,7 @@ double cpu_now() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-double wall_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double wall_now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 struct Frames {
   data::TumSequence sequence;
@@ -199,8 +197,8 @@ void register_cases() {
     const std::string at = finest == 0 ? "/640x480" : "/320x240";
     // joint and robust beside weighted and single: robust's budget is 1.3x weighted's CPU per pair.
     for (const char* m : {"single", "depth", "fixed", "tykkala", "weighted", "bounded", "joint", "robust"}) {
-      benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + at).c_str(), BM_RpyPairs, std::string(m), finest,
-                                   1, 0.0, false)
+      benchmark::RegisterBenchmark(("RpyPairs/" + std::string(m) + at).c_str(), BM_RpyPairs, std::string(m), finest, 1,
+                                   0.0, false)
           ->Unit(benchmark::kMillisecond)
           ->Iterations(1);
     }
@@ -215,23 +213,23 @@ void register_cases() {
     }
     // eps = 1e-5 lies below min F_D per unit weight on most pairs: the exact step is
     // infeasible (multiplier inf) on ~2/3 of the steps and minimizes F_D alone there.
-    benchmark::RegisterBenchmark(("RpyPairs/bounded_active" + at).c_str(), BM_RpyPairs, std::string("bounded"),
-                                 finest, 1, 1e-5, false)
+    benchmark::RegisterBenchmark(("RpyPairs/bounded_active" + at).c_str(), BM_RpyPairs, std::string("bounded"), finest,
+                                 1, 1e-5, false)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
     // eps = 1e-4 lies below F_D per unit weight of the photometric optimum on many pairs but
     // above its minimum: the bound binds with a finite multiplier (~23 % of the steps,
     // infeasible on 3 %).
-    benchmark::RegisterBenchmark(("RpyPairs/bounded_binding" + at).c_str(), BM_RpyPairs, std::string("bounded"),
-                                 finest, 1, 1e-4, false)
+    benchmark::RegisterBenchmark(("RpyPairs/bounded_binding" + at).c_str(), BM_RpyPairs, std::string("bounded"), finest,
+                                 1, 1e-4, false)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
-    benchmark::RegisterBenchmark(("RpyPairs/weighted_2threads_wall" + at).c_str(), BM_RpyPairs,
-                                 std::string("weighted"), finest, 2, 0.0, true)
+    benchmark::RegisterBenchmark(("RpyPairs/weighted_2threads_wall" + at).c_str(), BM_RpyPairs, std::string("weighted"),
+                                 finest, 2, 0.0, true)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
-    benchmark::RegisterBenchmark(("RpyPairs/weighted_1thread_wall" + at).c_str(), BM_RpyPairs,
-                                 std::string("weighted"), finest, 1, 0.0, true)
+    benchmark::RegisterBenchmark(("RpyPairs/weighted_1thread_wall" + at).c_str(), BM_RpyPairs, std::string("weighted"),
+                                 finest, 1, 0.0, true)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
 #ifdef BIVO_BENCH_STREAM

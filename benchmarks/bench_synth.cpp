@@ -20,11 +20,15 @@ static void BM_SynthRenderFrame(benchmark::State& state, const char* category) {
                  " colour samples/pixel");
 }
 BENCHMARK_CAPTURE(BM_SynthRenderFrame, structure_texture_near, "structure_texture_near")
-    ->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SynthRenderFrame, structure_notexture_far, "structure_notexture_far")
-    ->Arg(2)->Unit(benchmark::kMillisecond);
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SynthRenderFrame, nostructure_texture_near, "nostructure_texture_near")
-    ->Arg(2)->Unit(benchmark::kMillisecond);
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
 
 static void BM_SynthBuildScene(benchmark::State& state) {
   for (auto _ : state) {

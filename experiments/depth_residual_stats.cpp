@@ -73,7 +73,8 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
   std::vector<double> pair_means;
   std::size_t compared = 0, outliers = 0;
   for (int p = 0; p < pairs; ++p) {
-    const int i = pairs == 1 ? 0 : static_cast<int>(std::lround(static_cast<double>(p) * (candidates - 1) / (pairs - 1)));
+    const int i =
+        pairs == 1 ? 0 : static_cast<int>(std::lround(static_cast<double>(p) * (candidates - 1) / (pairs - 1)));
     const int j = i + o.gap;
     io::RgbdImage a = io::load_rgbd_image(seq.frames[i]), b = io::load_rgbd_image(seq.frames[j]);
     if (!seq.distortion.is_identity()) {
@@ -86,8 +87,8 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
     ++s.pairs;
     const int w = a.width, h = a.height;
     const double cx = K.cx, cy = K.cy;
-    const double r2max = std::max(cx, w - 1 - cx) * std::max(cx, w - 1 - cx) +
-                         std::max(cy, h - 1 - cy) * std::max(cy, h - 1 - cy);
+    const double r2max =
+        std::max(cx, w - 1 - cx) * std::max(cx, w - 1 - cx) + std::max(cy, h - 1 - cy) * std::max(cy, h - 1 - cy);
     std::vector<float> e(static_cast<std::size_t>(w) * h, std::nanf(""));
     double pair_sum = 0;
     std::size_t pair_n = 0;
@@ -143,8 +144,8 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
   if (rel.empty()) throw Error("depth-stats: no pixel of '" + dir + "' could be compared");
   s.outlier_share = compared ? static_cast<double>(outliers) / compared : 0.0;
   s.median_depth_m = median(depth);
-  s.beyond_3m = static_cast<double>(std::count_if(depth.begin(), depth.end(), [](double z) { return z > 3.0; })) /
-                depth.size();
+  s.beyond_3m =
+      static_cast<double>(std::count_if(depth.begin(), depth.end(), [](double z) { return z > 3.0; })) / depth.size();
   double sum = 0;
   for (double q : rel) sum += q;
   s.mean_rel = sum / rel.size();

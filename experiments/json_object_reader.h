@@ -55,7 +55,8 @@ class JsonObjectReader {
     if (!v->is_number_integer()) throw Error(path(key) + ": must be an integer, got " + v->dump());
     const auto i = v->get<std::int64_t>();
     if (i < lo || i > hi) {
-      throw Error(path(key) + ": " + v->dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw Error(path(key) + ": " + v->dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                  "]");
     }
     out = static_cast<int>(i);
   }

@@ -36,22 +36,30 @@ std::string run_name(const LosoRun& r, const std::string& parameter) {
 
 void set_policy_parameter(odometry::TrackerOptions& o, const std::string& name, double v) {
   odometry::PolicyParameters& p = o.policy;
-  if (name == "lambda") p.lambda = v;
-  else if (name == "phi") p.phi = v;
-  else if (name == "kappa") p.kappa = v;
-  else if (name == "eps_ratio") p.eps_ratio = v;
-  else if (name == "guard") p.guard = v;
-  else if (name == "trust") p.trust = v;
-  else if (name == "joint_tolerance") p.joint_tolerance = v;
-  else if (name == "relaxed_tolerance") p.relaxed_tolerance = v;
+  if (name == "lambda")
+    p.lambda = v;
+  else if (name == "phi")
+    p.phi = v;
+  else if (name == "kappa")
+    p.kappa = v;
+  else if (name == "eps_ratio")
+    p.eps_ratio = v;
+  else if (name == "guard")
+    p.guard = v;
+  else if (name == "trust")
+    p.trust = v;
+  else if (name == "joint_tolerance")
+    p.joint_tolerance = v;
+  else if (name == "relaxed_tolerance")
+    p.relaxed_tolerance = v;
   else
     throw Error("loso: unknown parameter '" + name +
                 "' (valid: lambda, phi, kappa, eps_ratio, guard, trust, joint_tolerance, relaxed_tolerance)");
 }
 
 std::vector<LosoRun> loso_units(const LosoOptions& o) {
-  if (o.sequences.size() < 2) throw Error("loso: needs at least 2 sequences (one is held out), got " +
-                                          std::to_string(o.sequences.size()));
+  if (o.sequences.size() < 2)
+    throw Error("loso: needs at least 2 sequences (one is held out), got " + std::to_string(o.sequences.size()));
   if (o.grid.empty()) throw Error("loso: the grid of '" + o.parameter + "' is empty");
   odometry::TrackerOptions probe = o.tracker;
   set_policy_parameter(probe, o.parameter, o.grid.front());  // an unknown name fails before any run
@@ -119,8 +127,8 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
   }
   for (int s = 0; s < n; ++s) {
     if (!ref[s] || !ref[s]->ok) {
-      throw Error("loso: the reference run (" + o.reference + ") on '" + o.sequences[s] + "' failed: " +
-                  (ref[s] ? ref[s]->error : std::string("missing")));
+      throw Error("loso: the reference run (" + o.reference + ") on '" + o.sequences[s] +
+                  "' failed: " + (ref[s] ? ref[s]->error : std::string("missing")));
     }
   }
   const auto at = [&](int s, double v) -> const LosoRun* {
@@ -183,7 +191,8 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
   md << "\n|---|---:|---:|---:|---:|";
   for (std::size_t k = 0; k < o.methods.size(); ++k) md << "---:|";
   md << "\n";
-  csv << "sequence,chosen,train_worst,ref_trans,ref_rot,trans,rot,trans_ratio,rot_ratio,max_pair_rot,ref_max_pair_rot\n";
+  csv << "sequence,chosen,train_worst,ref_trans,ref_rot,trans,rot,trans_ratio,rot_ratio,max_pair_rot,ref_max_pair_"
+         "rot\n";
   for (const LosoRow& row : result.rows) {
     const LosoRun& ref = *row.reference;
     md << "| " << row.sequence << " | " << row.chosen << " | " << std::fixed << std::setprecision(3) << row.train_worst
@@ -208,8 +217,8 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
              << std::setprecision(10) << r.rpe_trans << "," << r.rpe_rot << "," << r.median_cpu_ms << ","
              << max_of(r.pair_trans) << "," << max_of(r.pair_rot) << "," << csv_field(r.error) << "\n";
     for (std::size_t k = 0; k < r.pair_rot.size(); ++k) {
-      pairs_csv << csv_field(r.sequence_name) << "," << r.method << "," << value << "," << k << ","
-                << r.pair_trans[k] << "," << r.pair_rot[k] << "\n";
+      pairs_csv << csv_field(r.sequence_name) << "," << r.method << "," << value << "," << k << "," << r.pair_trans[k]
+                << "," << r.pair_rot[k] << "\n";
     }
   }
   odometry::io::create_output_directory(dir);

@@ -19,11 +19,11 @@ namespace bivo::experiments {
 struct LosoOptions {
   std::vector<std::string> sequences;
   std::string method = "robust";
-  std::string parameter = "trust";      // a PolicyParameters field (set_policy_parameter)
+  std::string parameter = "trust";  // a PolicyParameters field (set_policy_parameter)
   std::vector<double> grid;
   std::string reference = "single";
-  std::vector<std::string> methods;     // reported beside, at their defaults
-  odometry::TrackerOptions tracker;     // every run starts from it
+  std::vector<std::string> methods;  // reported beside, at their defaults
+  odometry::TrackerOptions tracker;  // every run starts from it
   int first_frame = 0, max_frames = -1;
   int progress = -1;
 };
@@ -36,7 +36,7 @@ struct LosoRun {
   double value = 0.0;
   bool ok = false;
   std::string sequence_name, error;
-  double rpe_trans = 0.0, rpe_rot = 0.0;   // RMSE over 1-s windows [m/s], [deg/s]
+  double rpe_trans = 0.0, rpe_rot = 0.0;  // RMSE over 1-s windows [m/s], [deg/s]
   double median_cpu_ms = 0.0;
   std::vector<double> pair_trans, pair_rot;  // per-pair errors against ground truth [m], [deg]
 };
@@ -46,7 +46,7 @@ struct LosoRow {
   double chosen = 0.0;       // value chosen without this sequence
   double train_worst = 0.0;  // its worst ratio over the other sequences
   const LosoRun* reference = nullptr;
-  const LosoRun* held_out = nullptr;  // the method at `chosen` on this sequence
+  const LosoRun* held_out = nullptr;   // the method at `chosen` on this sequence
   std::vector<const LosoRun*> others;  // the fixed methods, LosoOptions::methods order
 };
 

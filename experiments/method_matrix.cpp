@@ -171,28 +171,40 @@ ResultTable table_of(const MethodMatrix& m, const std::string& corner, F value, 
 }
 
 ResultTable rpe_trans_table(const MethodMatrix& m) {
-  return table_of(m, "RPE trans [m/s]", [](const MatrixCell& c) -> std::optional<double> {
-    if (c.rpe) return c.rpe->trans_rmse;
-    return std::nullopt;
-  }, 6);
+  return table_of(
+      m, "RPE trans [m/s]",
+      [](const MatrixCell& c) -> std::optional<double> {
+        if (c.rpe) return c.rpe->trans_rmse;
+        return std::nullopt;
+      },
+      6);
 }
 ResultTable rpe_rot_table(const MethodMatrix& m) {
-  return table_of(m, "RPE rot [deg/s]", [](const MatrixCell& c) -> std::optional<double> {
-    if (c.rpe) return c.rpe->rot_rmse_deg;
-    return std::nullopt;
-  }, 4);
+  return table_of(
+      m, "RPE rot [deg/s]",
+      [](const MatrixCell& c) -> std::optional<double> {
+        if (c.rpe) return c.rpe->rot_rmse_deg;
+        return std::nullopt;
+      },
+      4);
 }
 ResultTable ate_table(const MethodMatrix& m) {
-  return table_of(m, "ATE [m]", [](const MatrixCell& c) -> std::optional<double> {
-    if (c.ate) return c.ate->rmse;
-    return std::nullopt;
-  }, 6);
+  return table_of(
+      m, "ATE [m]",
+      [](const MatrixCell& c) -> std::optional<double> {
+        if (c.ate) return c.ate->rmse;
+        return std::nullopt;
+      },
+      6);
 }
 ResultTable runtime_table(const MethodMatrix& m) {
-  ResultTable t = table_of(m, "ms per pair (median)", [](const MatrixCell& c) -> std::optional<double> {
-    if (c.run) return c.run->median_ms;
-    return std::nullopt;
-  }, 2);
+  ResultTable t = table_of(
+      m, "ms per pair (median)",
+      [](const MatrixCell& c) -> std::optional<double> {
+        if (c.run) return c.run->median_ms;
+        return std::nullopt;
+      },
+      2);
   return t;
 }
 
@@ -241,7 +253,8 @@ std::string matrix_markdown(const MethodMatrix& m) {
     << rpe_rot_table(m).markdown() << "\nATE RMSE after rigid alignment [m]:\n\n"
     << ate_table(m).markdown() << "\nTime per frame pair, median over pairs [ms] (loading excluded):\n\n"
     << runtime_table(m).markdown();
-  s << "\nTime per frame pair over all sequences (paper table 3):\n\n| method | backend | pairs | median ms | mean ms |\n"
+  s << "\nTime per frame pair over all sequences (paper table 3):\n\n| method | backend | pairs | median ms | mean ms "
+       "|\n"
        "|---|---|---:|---:|---:|\n";
   for (int r = 0; r < int(m.methods.size()); ++r) {
     const MethodTiming t = method_timing(m, r);
@@ -294,8 +307,11 @@ std::string write_matrix(const MethodMatrix& m, const std::string& dir) {
 
   nlohmann::json j = nlohmann::json::array();
   for (const auto& c : m.cells) {
-    nlohmann::json e = {{"sequence", c.sequence},      {"sequence_dir", c.sequence_dir}, {"method", c.spec.method},
-                        {"backend", c.backend},        {"note", c.note}};
+    nlohmann::json e = {{"sequence", c.sequence},
+                        {"sequence_dir", c.sequence_dir},
+                        {"method", c.spec.method},
+                        {"backend", c.backend},
+                        {"note", c.note}};
     if (c.run) {
       e["frames"] = c.run->trajectory.size();
       e["median_ms"] = c.run->median_ms;

@@ -22,13 +22,13 @@ MethodSpec parse_method_spec(const std::string& text);
 std::string label(const MethodSpec& spec);  // "bounded" or "bounded (ipm-full)"
 
 struct MatrixOptions {
-  std::vector<std::string> sequences;       // TUM folders
+  std::vector<std::string> sequences;  // TUM folders
   std::vector<MethodSpec> methods;
-  odometry::TrackerOptions tracker;         // method/backend overwritten per cell
+  odometry::TrackerOptions tracker;  // method/backend overwritten per cell
   int first_frame = 0, max_frames = -1;
   int progress = -1;
-  std::string trajectory_dir;               // when set: <dir>/<sequence>__<method>.txt
-  double rpe_delta = 1.0;                   // RPE window [s]
+  std::string trajectory_dir;  // when set: <dir>/<sequence>__<method>.txt
+  double rpe_delta = 1.0;      // RPE window [s]
 };
 
 struct MatrixCell {
@@ -38,7 +38,7 @@ struct MatrixCell {
   std::optional<RunOutcome> run;
   std::optional<odometry::io::RpeResult> rpe;
   std::optional<odometry::io::AteResult> ate;
-  std::string note;     // why rpe/ate/run is missing
+  std::string note;  // why rpe/ate/run is missing
 };
 
 struct MethodMatrix {

@@ -215,7 +215,8 @@ std::vector<ClaimRow> paper_claims(const MethodMatrix& matrix, const SweepResult
   if (sweep) {
     std::map<std::string, std::vector<const SweepPoint*>> by_category;
     for (const auto& p : sweep->points) {
-      if (p.parameter == "lambda" && !category_of(p.sequence).empty()) by_category[category_of(p.sequence)].push_back(&p);
+      if (p.parameter == "lambda" && !category_of(p.sequence).empty())
+        by_category[category_of(p.sequence)].push_back(&p);
     }
     for (const auto& [cat, points] : by_category) {
       if (cat.rfind("structure_", 0) != 0 || points.size() < 2) continue;
@@ -254,8 +255,8 @@ std::string claims_markdown(const std::vector<ClaimRow>& rows) {
      << held << " of " << rows.size() << " hold here.\n\n"
      << "| source | claim | category | paper | bivo | here | criterion |\n|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
-    md << "| " << r.source << " | " << r.claim << " | " << r.category << " | " << r.paper << " | " << r.bivo
-       << " | " << (r.holds ? "holds" : "does not hold") << " | " << r.criterion << " |\n";
+    md << "| " << r.source << " | " << r.claim << " | " << r.category << " | " << r.paper << " | " << r.bivo << " | "
+       << (r.holds ? "holds" : "does not hold") << " | " << r.criterion << " |\n";
   }
   return md.str();
 }

@@ -22,7 +22,7 @@ struct ClaimRow {
   std::string paper;     // the paper's number(s)
   std::string bivo;      // the run's number(s)
   bool holds = false;
-  std::string criterion; // how "holds" was decided
+  std::string criterion;  // how "holds" was decided
 };
 
 std::vector<ClaimRow> paper_claims(const MethodMatrix& matrix, const SweepResult* sweep = nullptr);

@@ -47,8 +47,10 @@ namespace {
 
 std::string point_name(const SweepUnit& u) {
   std::ostringstream what;
-  if (u.parameter == "single") what << "single";
-  else what << u.parameter << "=" << u.value;
+  if (u.parameter == "single")
+    what << "single";
+  else
+    what << u.parameter << "=" << u.value;
   return what.str();
 }
 
@@ -112,7 +114,8 @@ SweepResult assemble_sweep(const SweepOptions& o, const std::vector<SweepRun>& r
         out.notes.push_back(r.sequence + ": the single-objective reference failed (" + r.error +
                             "); its points are left out");
       } else if (!(r.rpe_trans > 0) || !(r.max_err > 0)) {
-        out.notes.push_back(r.sequence + ": the single-objective reference has zero error; ratios are undefined, "
+        out.notes.push_back(r.sequence +
+                            ": the single-objective reference has zero error; ratios are undefined, "
                             "its points are left out");
       }
       continue;
@@ -155,16 +158,22 @@ std::string write_sweep(const SweepResult& r, const std::string& dir) {
         "|---|---|---:|---:|---:|---:|---:|---:|\n";
   nlohmann::json j = nlohmann::json::array();
   for (const auto& p : r.points) {
-    csv << csv_field(p.sequence) << "," << p.parameter << "," << std::setprecision(10) << p.value << ","
-        << p.rpe_trans << "," << p.max_err << "," << p.rmse_ratio << "," << p.max_ratio << "," << p.median_ms << ","
-        << p.failures << "\n";
-    md << "| " << p.sequence << " | " << p.parameter << " | " << std::setprecision(4) << p.value << " | "
-       << std::fixed << std::setprecision(6) << p.rpe_trans << " | " << p.max_err << " | " << std::setprecision(3)
-       << p.rmse_ratio << " | " << p.max_ratio << " | " << std::setprecision(1) << p.median_ms << " |\n"
+    csv << csv_field(p.sequence) << "," << p.parameter << "," << std::setprecision(10) << p.value << "," << p.rpe_trans
+        << "," << p.max_err << "," << p.rmse_ratio << "," << p.max_ratio << "," << p.median_ms << "," << p.failures
+        << "\n";
+    md << "| " << p.sequence << " | " << p.parameter << " | " << std::setprecision(4) << p.value << " | " << std::fixed
+       << std::setprecision(6) << p.rpe_trans << " | " << p.max_err << " | " << std::setprecision(3) << p.rmse_ratio
+       << " | " << p.max_ratio << " | " << std::setprecision(1) << p.median_ms << " |\n"
        << std::defaultfloat;
-    j.push_back({{"sequence", p.sequence}, {"parameter", p.parameter}, {"value", p.value},
-                 {"rpe_trans", p.rpe_trans}, {"max_err", p.max_err}, {"rmse_ratio", p.rmse_ratio},
-                 {"max_ratio", p.max_ratio}, {"median_ms", p.median_ms}, {"failures", p.failures}});
+    j.push_back({{"sequence", p.sequence},
+                 {"parameter", p.parameter},
+                 {"value", p.value},
+                 {"rpe_trans", p.rpe_trans},
+                 {"max_err", p.max_err},
+                 {"rmse_ratio", p.rmse_ratio},
+                 {"max_ratio", p.max_ratio},
+                 {"median_ms", p.median_ms},
+                 {"failures", p.failures}});
   }
   if (!r.notes.empty()) {
     md << "\nLeft out:\n\n";

@@ -20,7 +20,7 @@ struct SweepOptions {
   std::vector<std::string> sequences;
   std::vector<double> lambdas, epsilons;  // either may be empty
   odometry::TrackerOptions tracker;
-  std::string epsilon_backend;            // empty: bounded's default (exact)
+  std::string epsilon_backend;  // empty: bounded's default (exact)
   int first_frame = 0, max_frames = -1;
   int progress = -1;
   double rpe_delta = 1.0;  // RPE window [s]

@@ -193,8 +193,8 @@ std::vector<int> pareto_pairs(const std::string& sequence_dir, int pair, int eve
   std::vector<int> pairs;
   if (pair >= 0) {
     if (std::int64_t{pair} + 1 >= frames) {
-      throw Error("--pair " + std::to_string(pair) + ": sequence '" + sequence_dir + "' has " +
-                  std::to_string(frames) + " frames, pairs 0.." + std::to_string(frames - 2));
+      throw Error("--pair " + std::to_string(pair) + ": sequence '" + sequence_dir + "' has " + std::to_string(frames) +
+                  " frames, pairs 0.." + std::to_string(frames - 2));
     }
     pairs.push_back(pair);
   } else {
@@ -216,8 +216,10 @@ std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const 
   md << "---:|\n";
   auto mm = [](const StudyPoint& p) {
     std::ostringstream s;
-    if (p.error) s << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m;
-    else s << "—";
+    if (p.error)
+      s << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m;
+    else
+      s << "—";
     return s.str();
   };
   odometry::io::StagedOutputs out;
@@ -225,8 +227,10 @@ std::string write_pareto_studies(const std::vector<ParetoStudy>& studies, const 
     const int k = s.pair;
     out.add(dir + "/pareto_pair" + std::to_string(k) + ".json", [&](std::ostream& o) { o << pareto_json(s); });
     md << "| " << k << " | " << s.level << " | " << s.lambda_front.size() << " | " << s.epsilon_front.size() << " | ";
-    if (s.knee) md << std::setprecision(6) << s.knee->f_i << " | " << s.knee->f_d << " | " << mm(*s.knee) << " |";
-    else md << "— | — | — |";
+    if (s.knee)
+      md << std::setprecision(6) << s.knee->f_i << " | " << s.knee->f_d << " | " << mm(*s.knee) << " |";
+    else
+      md << "— | — | — |";
     for (const auto& p : s.methods) md << " " << mm(p) << " |";
     md << " " << std::fixed << std::setprecision(1) << s.seconds << std::defaultfloat << " |\n";
   }

@@ -17,9 +17,9 @@ namespace bivo::experiments {
 
 struct ParetoStudyOptions {
   std::string sequence_dir;
-  int pair = 0;       // reference frame index; current = pair + 1
-  int level = 1;      // pyramid level of the problem (0 = full resolution)
-  int points = 15;    // per sweep
+  int pair = 0;     // reference frame index; current = pair + 1
+  int level = 1;    // pyramid level of the problem (0 = full resolution)
+  int points = 15;  // per sweep
   double lambda_min = 1.0, lambda_max = 1e7;
   std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded"};
   odometry::TrackerOptions tracker;  // levels, policy parameters, weights

@@ -56,8 +56,8 @@ void plot(const std::string& script, const std::vector<std::string>& args) {
   if (raw != 0) {
     std::string tail = err.str();
     if (tail.size() > 800) tail = "..." + tail.substr(tail.size() - 800);
-    throw Error("plot script " + script + " failed (status " +
-                std::to_string(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1) + "): " + tail);
+    throw Error("plot script " + script + " failed (status " + std::to_string(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1) +
+                "): " + tail);
   }
 }
 

@@ -16,8 +16,8 @@
 namespace bivo::experiments {
 namespace {
 
-const std::vector<std::string> kPhases = {"pyramid", "reference", "residuals", "weights", "normal_equations",
-                                          "cone_data", "subproblem", "other"};
+const std::vector<std::string> kPhases = {"pyramid",          "reference", "residuals",  "weights",
+                                          "normal_equations", "cone_data", "subproblem", "other"};
 
 // The paper's table 3 (runtime per match) for our methods, with the factor over the
 // Gauss-Newton reference (the first row) and, for the SOCP rows, the interior-point share.
@@ -60,8 +60,8 @@ double quantile(std::vector<double> v, double q) {
 
 // One method's row from its runs (one per repetition; every run holds the same pairs and
 // results, only their times differ) and the reference's pairs (empty for the reference).
-ProfileRow row_of(ProfileRow row, const std::vector<RunOutcome>& runs, const std::vector<odometry::PairResult>& reference,
-                  bool is_reference, int levels) {
+ProfileRow row_of(ProfileRow row, const std::vector<RunOutcome>& runs,
+                  const std::vector<odometry::PairResult>& reference, bool is_reference, int levels) {
   if (runs.empty()) return row;
   std::vector<double> pair_ms;
   for (const auto& run : runs) {
@@ -176,8 +176,8 @@ std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
     row.method = methods[k].method;
     row.backend = effective_backend(requests[k].tracker);
     row.note = notes[k];
-    rows.push_back(row_of(row, notes[k].empty() ? runs[k] : std::vector<RunOutcome>{}, reference, k == 0,
-                          o.tracker.levels));
+    rows.push_back(
+        row_of(row, notes[k].empty() ? runs[k] : std::vector<RunOutcome>{}, reference, k == 0, o.tracker.levels));
   }
   return rows;
 }
@@ -193,7 +193,8 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
   std::ostringstream md, csv;
   // Per-phase times depend on the kernels' instruction set: name it beside them.
   const std::string kernels = odometry::to_string(odometry::default_kernels().isa);
-  md << "Per-pixel kernels: " << kernels << " (the best instruction set of this CPU; avx2 and avx512vl give "
+  md << "Per-pixel kernels: " << kernels
+     << " (the best instruction set of this CPU; avx2 and avx512vl give "
         "bit-identical results, avx512's sixteen lanes agree with them to float rounding)\n\n";
   md << "Time per frame pair by phase [ms] (mean over pairs; 'a/b' is a part of phase 'a'; 'unrecorded' = total "
         "minus the phases; with --threads 2 or more the next frame's pyramid is built beside the other phases, "
@@ -229,15 +230,26 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
     csv << "," << std::setprecision(6) << r.total_ms - recorded;
     for (double it : r.iterations_per_level) csv << "," << it;
     for (int l = 0; l < levels; ++l) {
-      if (r.f_i_gap.empty()) csv << ",,";
-      else csv << "," << r.f_i_gap[l] << "," << r.f_d_ratio[l];
+      if (r.f_i_gap.empty())
+        csv << ",,";
+      else
+        csv << "," << r.f_i_gap[l] << "," << r.f_d_ratio[l];
     }
     csv << "\n" << std::defaultfloat;
     md << std::defaultfloat;
-    j.push_back({{"method", r.method}, {"backend", r.backend}, {"pairs", r.pairs}, {"total_ms", r.total_ms},
-                 {"phase_ms", r.phase_ms}, {"iterations_per_level", r.iterations_per_level},
-                 {"median_ms", r.median_ms}, {"q1_ms", r.q1_ms}, {"q3_ms", r.q3_ms}, {"repetitions", r.repetitions},
-                 {"f_i_gap_per_level", r.f_i_gap}, {"f_d_ratio_per_level", r.f_d_ratio}, {"note", r.note},
+    j.push_back({{"method", r.method},
+                 {"backend", r.backend},
+                 {"pairs", r.pairs},
+                 {"total_ms", r.total_ms},
+                 {"phase_ms", r.phase_ms},
+                 {"iterations_per_level", r.iterations_per_level},
+                 {"median_ms", r.median_ms},
+                 {"q1_ms", r.q1_ms},
+                 {"q3_ms", r.q3_ms},
+                 {"repetitions", r.repetitions},
+                 {"f_i_gap_per_level", r.f_i_gap},
+                 {"f_d_ratio_per_level", r.f_d_ratio},
+                 {"note", r.note},
                  {"kernels", kernels}});
   }
   md << "\nOuter iterations per pyramid level (mean over pairs; level 0 = full resolution), and per level the "
@@ -250,10 +262,14 @@ std::string write_profile(const std::vector<ProfileRow>& rows, const std::string
   md << "\n";
   for (const auto& r : rows) {
     md << "| " << r.method << " | " << r.backend << " |";
-    for (int l = levels - 1; l >= 0; --l) md << " " << std::fixed << std::setprecision(1) << r.iterations_per_level[l] << " |";
+    for (int l = levels - 1; l >= 0; --l)
+      md << " " << std::fixed << std::setprecision(1) << r.iterations_per_level[l] << " |";
     for (int l = levels - 1; l >= 0; --l) {
-      if (r.f_i_gap.empty()) md << " (reference) | (reference) |";
-      else md << " " << std::showpos << std::setprecision(4) << r.f_i_gap[l] << std::noshowpos << " | " << r.f_d_ratio[l] << " |";
+      if (r.f_i_gap.empty())
+        md << " (reference) | (reference) |";
+      else
+        md << " " << std::showpos << std::setprecision(4) << r.f_i_gap[l] << std::noshowpos << " | " << r.f_d_ratio[l]
+           << " |";
     }
     md << std::defaultfloat << "\n";
   }

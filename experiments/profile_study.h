@@ -19,12 +19,12 @@ namespace bivo::experiments {
 struct ProfileRow {
   std::string method, backend;
   int pairs = 0;
-  int repetitions = 0;                          // timed runs of the window
-  double total_ms = 0;                          // mean per pair (over every pair of every repetition)
-  double median_ms = 0, q1_ms = 0, q3_ms = 0;   // median and quartiles of the same times
-  std::map<std::string, double> phase_ms;       // mean per pair
-  std::vector<double> iterations_per_level;     // [level], mean over pairs (coarse levels last)
-  std::vector<double> f_i_gap, f_d_ratio;       // [level] vs single/gn; empty for single itself
+  int repetitions = 0;                         // timed runs of the window
+  double total_ms = 0;                         // mean per pair (over every pair of every repetition)
+  double median_ms = 0, q1_ms = 0, q3_ms = 0;  // median and quartiles of the same times
+  std::map<std::string, double> phase_ms;      // mean per pair
+  std::vector<double> iterations_per_level;    // [level], mean over pairs (coarse levels last)
+  std::vector<double> f_i_gap, f_d_ratio;      // [level] vs single/gn; empty for single itself
   std::string note;
 };
 

@@ -20,8 +20,7 @@ std::string ProgressBar::format(const std::string& label, int done, int total, d
   std::ostringstream s;
   const double frac = total > 0 ? std::min(1.0, double(done) / total) : 0.0;
   const int filled = int(frac * width + 0.5);
-  s << label << " [" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << done << "/"
-    << total;
+  s << label << " [" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << done << "/" << total;
   if (done > 0 && elapsed_s > 0) {
     const double rate = done / elapsed_s;
     s << std::fixed << std::setprecision(1) << "  " << rate << " it/s  ETA "

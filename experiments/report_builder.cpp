@@ -39,8 +39,8 @@ std::string setup_markdown(const ReportOptions& o, const MethodMatrix& m) {
   for (size_t i = 0; i < m.methods.size(); ++i) {
     s << (i ? ", " : "") << label(m.methods[i]) << " [" << m.at(int(i), 0).backend << "]";
   }
-  s << " |\n| pyramid | " << o.tracker.levels << " levels, finest " << o.tracker.finest_level
-    << ", at most " << o.tracker.max_iterations << " iterations per level |\n";
+  s << " |\n| pyramid | " << o.tracker.levels << " levels, finest " << o.tracker.finest_level << ", at most "
+    << o.tracker.max_iterations << " iterations per level |\n";
   s << "| policy | fixed lambda " << o.tracker.policy.lambda << ", phi " << o.tracker.policy.phi << ", delta "
     << o.tracker.policy.delta << " m/px, eps_min " << o.tracker.policy.eps_min << ", eps_max "
     << o.tracker.policy.eps_max << " m^2 per unit weight |\n";
@@ -66,7 +66,8 @@ ReportResult write_report(const ReportOptions& o, const ReportParts& parts, cons
   result.matrix = parts.matrix;
   write_matrix_trajectories(result.matrix, dir + "/trajectories");
   result.tables_markdown = write_matrix(result.matrix, dir + "/tables");
-  md << "## Setup\n\n" << setup_markdown(o, result.matrix) << "\n## Accuracy and runtime\n\n"
+  md << "## Setup\n\n"
+     << setup_markdown(o, result.matrix) << "\n## Accuracy and runtime\n\n"
      << result.tables_markdown << "\n";
 
   auto image = [&](const std::string& script, const std::string& input, const std::string& name,
@@ -122,8 +123,10 @@ ReportResult write_report(const ReportOptions& o, const ReportParts& parts, cons
       md << "| point | F_I | F_D | translation error [mm] |\n|---|---:|---:|---:|\n";
       auto row = [&](const std::string& name, const StudyPoint& p) {
         md << "| " << name << " | " << std::setprecision(6) << p.f_i << " | " << p.f_d << " | ";
-        if (p.error) md << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m << std::defaultfloat;
-        else md << "—";
+        if (p.error)
+          md << std::fixed << std::setprecision(2) << 1000.0 * p.error->translation_m << std::defaultfloat;
+        else
+          md << "—";
         md << " |\n";
       };
       for (const auto& p : s.methods) row(p.method, p);

@@ -22,8 +22,8 @@ struct ReportOptions {
   std::vector<std::string> sequences;
   std::vector<MethodSpec> methods;
   odometry::TrackerOptions tracker;
-  int first_frame = 0, max_frames = -1;       // for the method tables
-  double rpe_delta = 1.0;                     // RPE window [s] of the tables and sweeps
+  int first_frame = 0, max_frames = -1;  // for the method tables
+  double rpe_delta = 1.0;                // RPE window [s] of the tables and sweeps
   // Sweeps: grids (empty: no sweep) and the frames each sweep run processes.
   std::vector<double> lambdas, epsilons;
   int sweep_max_frames = 60;

@@ -9,15 +9,15 @@
 namespace bivo::experiments {
 
 struct ResultTable {
-  std::string corner;                    // header of the row-label column, e.g. "method"
+  std::string corner;  // header of the row-label column, e.g. "method"
   std::vector<std::string> rows, columns;
   std::vector<std::vector<std::optional<double>>> values;  // [row][column]
-  bool mark_best = true;                 // bold the minimum of each column
-  int precision = 6;                     // digits after the point
+  bool mark_best = true;                                   // bold the minimum of each column
+  int precision = 6;                                       // digits after the point
 
   ResultTable(std::string corner, std::vector<std::string> rows, std::vector<std::string> columns);
-  std::vector<std::vector<std::string>> texts;             // shown instead of "—" where no value
-  void set(int row, int column, double value);  // throws bivo::Error on a non-finite value
+  std::vector<std::vector<std::string>> texts;           // shown instead of "—" where no value
+  void set(int row, int column, double value);           // throws bivo::Error on a non-finite value
   void set_text(int row, int column, std::string text);  // Markdown only; the CSV cell stays empty
   // Index of the smallest value of the column, -1 when the column is empty.
   int best_row(int column) const;

@@ -19,12 +19,10 @@
 namespace bivo::experiments {
 
 std::string effective_backend(const odometry::TrackerOptions& options) {
-  return options.backend.empty() ? odometry::default_backend(odometry::parse_method(options.method))
-                                 : options.backend;
+  return options.backend.empty() ? odometry::default_backend(odometry::parse_method(options.method)) : options.backend;
 }
 
-RunOutcome run_sequence(const RunRequest& request,
-                        const std::function<void(const odometry::PairResult&)>& on_pair) {
+RunOutcome run_sequence(const RunRequest& request, const std::function<void(const odometry::PairResult&)>& on_pair) {
   odometry::TrackerOptions options = request.tracker;
   options.first_frame = request.first_frame;
   options.max_frames = request.max_frames;
@@ -37,11 +35,10 @@ RunOutcome run_sequence(const RunRequest& request,
   ProgressBar bar(request.label.empty() ? seq.name + " " + options.method : request.label,
                   window.end - window.begin - 1, request.progress);
 
-  odometry::TrackResult track = odometry::track_sequence(seq, options,
-                                                         [&](const odometry::PairResult& pair) {
-                                                           if (on_pair) on_pair(pair);
-                                                           bar.tick();
-                                                         });
+  odometry::TrackResult track = odometry::track_sequence(seq, options, [&](const odometry::PairResult& pair) {
+    if (on_pair) on_pair(pair);
+    bar.tick();
+  });
   bar.finish();
 
   RunOutcome out;
@@ -91,8 +88,10 @@ void write_pair_log(std::ostream& o, const RunOutcome& run) {
     o << ",";
     if (std::isfinite(p.f_d)) o << p.f_d;
     o << ",";
-    if (p.error) o << p.error->translation_m << "," << p.error->rotation_deg;
-    else o << ",";
+    if (p.error)
+      o << p.error->translation_m << "," << p.error->rotation_deg;
+    else
+      o << ",";
     o << "," << p.correlation << "," << p.relaxed_levels << "," << p.trust << "," << csv_field(p.note) << "\n";
   }
 }

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "experiments/output_set.h"
-#include "odometry/tracker.h"
 #include "odometry/io/trajectory.h"
+#include "odometry/tracker.h"
 #include "solvers/profiling.h"
 
 namespace bivo::experiments {
@@ -39,16 +39,16 @@ struct RunRequest {
 std::shared_ptr<const odometry::io::TumSequence> open_run_sequence(const RunRequest& request);
 
 struct RunOutcome {
-  std::string sequence;       // folder name
+  std::string sequence;  // folder name
   std::string method, backend;
-  odometry::io::Trajectory trajectory;               // one pose per processed rgb frame
+  odometry::io::Trajectory trajectory;  // one pose per processed rgb frame
   std::optional<odometry::io::Trajectory> groundtruth;
   std::vector<odometry::PairResult> pairs;
-  solvers::PhaseProfile profile;                 // summed over pairs (loading excluded)
-  int failures = 0;                              // pairs whose every level was skipped
-  double median_ms = 0, mean_ms = 0;             // wall time per pair, loading excluded
-  double median_cpu_ms = 0, mean_cpu_ms = 0;     // CPU time per pair (all threads), loading excluded
-  double load_seconds = 0;                       // PNG decoding, all frames
+  solvers::PhaseProfile profile;              // summed over pairs (loading excluded)
+  int failures = 0;                           // pairs whose every level was skipped
+  double median_ms = 0, mean_ms = 0;          // wall time per pair, loading excluded
+  double median_cpu_ms = 0, mean_cpu_ms = 0;  // CPU time per pair (all threads), loading excluded
+  double load_seconds = 0;                    // PNG decoding, all frames
 };
 
 // Throws bivo::Error on bad options (odometry::validate), a window outside the sequence

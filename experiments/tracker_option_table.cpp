@@ -28,12 +28,11 @@ constexpr double kIntMax = std::numeric_limits<int>::max();
 
 // Accessors of a plain field: json converts both ways. Lambdas without captures, so the
 // table holds plain function pointers.
-#define BIVO_FIELD(member)                                        \
-  [](const TrackerOptions& o) -> json { return o.member; },       \
-      [](TrackerOptions& o, const json& v) { v.get_to(o.member); }
+#define BIVO_FIELD(member) \
+  [](const TrackerOptions& o) -> json { return o.member; }, [](TrackerOptions& o, const json& v) { v.get_to(o.member); }
 // An enum field by name (its to_string / parse functions).
-#define BIVO_NAMED(member, to_name, parse)                                   \
-  [](const TrackerOptions& o) -> json { return to_name(o.member); },         \
+#define BIVO_NAMED(member, to_name, parse)                           \
+  [](const TrackerOptions& o) -> json { return to_name(o.member); }, \
       [](TrackerOptions& o, const json& v) { o.member = parse(v.get<std::string>()); }
 
 TrackerOption number(std::string key, std::string flag, double lo, double hi, std::string help,
@@ -87,22 +86,22 @@ std::vector<TrackerOption> build_table() {
              BIVO_FIELD(policy.eps_min), "bounded"),
       number("policy.eps_max", "--eps-max", 0.0, kInf, "eps_bar [m^2] on poor structure (pi(D) <= delta)",
              BIVO_FIELD(policy.eps_max), "bounded"),
-      number("policy.eps", "--eps", 0.0, kInf,
-             "fixed bound on F_D per unit weight [m^2] instead of the pi(D) rule (null: the rule)",
-             [](const TrackerOptions& o) -> json { return o.policy.eps ? json(*o.policy.eps) : json(nullptr); },
-             [](TrackerOptions& o, const json& v) {
-               if (v.is_null()) {
-                 o.policy.eps.reset();
-               } else {
-                 o.policy.eps = v.get<double>();
-               }
-             },
-             "bounded"),
+      number(
+          "policy.eps", "--eps", 0.0, kInf,
+          "fixed bound on F_D per unit weight [m^2] instead of the pi(D) rule (null: the rule)",
+          [](const TrackerOptions& o) -> json { return o.policy.eps ? json(*o.policy.eps) : json(nullptr); },
+          [](TrackerOptions& o, const json& v) {
+            if (v.is_null()) {
+              o.policy.eps.reset();
+            } else {
+              o.policy.eps = v.get<double>();
+            }
+          },
+          "bounded"),
       number("policy.kappa", "--kappa", 0.0, kInf, "lambda = kappa sigma_I^2 / sigma_D^2 (robust scales)",
              BIVO_FIELD(policy.kappa), "scaled"),
-      positive("policy.eps_ratio", "--eps-ratio",
-               "eps_bar / (F_D per unit weight at the photometric solution)", BIVO_FIELD(policy.eps_ratio),
-               "noise-bounded"),
+      positive("policy.eps_ratio", "--eps-ratio", "eps_bar / (F_D per unit weight at the photometric solution)",
+               BIVO_FIELD(policy.eps_ratio), "noise-bounded"),
       number("policy.guard", "--guard", 0.0, kInf,
              "rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
              BIVO_FIELD(policy.guard), "noise-bounded"),
@@ -149,8 +148,7 @@ std::vector<TrackerOption> build_table() {
               BIVO_FIELD(min_valid_pixels)),
       number("max_association_dt", "--max-dt", 0.0, 1e6, "rgb/depth association tolerance [s]",
              BIVO_FIELD(max_association_dt)),
-      integer("first_frame", "", 0, kIntMax, "index of the first associated frame processed",
-              BIVO_FIELD(first_frame)),
+      integer("first_frame", "", 0, kIntMax, "index of the first associated frame processed", BIVO_FIELD(first_frame)),
       integer("max_frames", "", -1, kIntMax, "frames processed from first_frame (-1: to the end)",
               BIVO_FIELD(max_frames)),
       other(T::kBoolean, "start_at_groundtruth", "--start-at-groundtruth",
@@ -170,15 +168,13 @@ std::vector<TrackerOption> build_table() {
       number("problem.max_depth", "--max-depth", 0.0, kInf, "reference depths above this are not used [m]",
              BIVO_FIELD(problem.max_depth)),
       number("problem.occlusion_margin", "--occlusion-margin", 0.0, kInf,
-             "a warped point this far behind the current depth is occluded [m]",
-             BIVO_FIELD(problem.occlusion_margin)),
+             "a warped point this far behind the current depth is occluded [m]", BIVO_FIELD(problem.occlusion_margin)),
       number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "
              "(a degenerate pose: the level is skipped)",
              BIVO_FIELD(problem.min_valid_fraction)),
       other(T::kBoolean, "problem.depth_first", "", "set by the method (depth)", BIVO_FIELD(problem.depth_first)),
-      other(T::kBoolean, "problem.joint_weights", "", "set by the method (joint)",
-            BIVO_FIELD(problem.joint_weights)),
+      other(T::kBoolean, "problem.joint_weights", "", "set by the method (joint)", BIVO_FIELD(problem.joint_weights)),
       other(T::kBoolean, "problem.model_f2", "", "set by the method (single/depth: false)",
             BIVO_FIELD(problem.model_f2)),
       other(T::kName, "problem.jacobian", "--jacobian",
@@ -198,32 +194,34 @@ std::vector<TrackerOption> build_table() {
               "fixed-point iterations of the t-distribution scale", BIVO_FIELD(problem.weights.max_scale_iterations)),
       number("problem.weights.scale_tolerance", "--scale-tolerance", 0.0, kInf,
              "relative change of sigma^2 that ends the scale iteration", BIVO_FIELD(problem.weights.scale_tolerance)),
-      other(T::kIntrinsics, "intrinsics", "--intrinsics",
-            "\"fx fy cx cy\" instead of the preset chosen by the sequence name",
-            [](const TrackerOptions& o) -> json {
-              if (!o.intrinsics) return nullptr;
-              return {{"fx", o.intrinsics->fx}, {"fy", o.intrinsics->fy}, {"cx", o.intrinsics->cx},
-                      {"cy", o.intrinsics->cy}};
-            },
-            [](TrackerOptions& o, const json& v) {
-              if (v.is_null()) return o.intrinsics.reset();
-              o.intrinsics = odometry::io::Intrinsics{v.at("fx").get<double>(), v.at("fy").get<double>(),
-                                                      v.at("cx").get<double>(), v.at("cy").get<double>()};
-            }),
-      other(T::kDistortion, "distortion", "--distortion",
-            "\"k1 k2 p1 p2 k3\" or \"none\" instead of the lens distortion preset chosen by the sequence name "
-            "(freiburg1/2: TUM's calibration; frames are undistorted at loading)",
-            [](const TrackerOptions& o) -> json {
-              if (!o.distortion) return nullptr;
-              const auto& d = *o.distortion;
-              return {{"k1", d.k1}, {"k2", d.k2}, {"p1", d.p1}, {"p2", d.p2}, {"k3", d.k3}};
-            },
-            [](TrackerOptions& o, const json& v) {
-              if (v.is_null()) return o.distortion.reset();
-              o.distortion = odometry::io::Distortion{v.at("k1").get<double>(), v.at("k2").get<double>(),
-                                                      v.at("p1").get<double>(), v.at("p2").get<double>(),
-                                                      v.at("k3").get<double>()};
-            }),
+      other(
+          T::kIntrinsics, "intrinsics", "--intrinsics",
+          "\"fx fy cx cy\" instead of the preset chosen by the sequence name",
+          [](const TrackerOptions& o) -> json {
+            if (!o.intrinsics) return nullptr;
+            return {
+                {"fx", o.intrinsics->fx}, {"fy", o.intrinsics->fy}, {"cx", o.intrinsics->cx}, {"cy", o.intrinsics->cy}};
+          },
+          [](TrackerOptions& o, const json& v) {
+            if (v.is_null()) return o.intrinsics.reset();
+            o.intrinsics = odometry::io::Intrinsics{v.at("fx").get<double>(), v.at("fy").get<double>(),
+                                                    v.at("cx").get<double>(), v.at("cy").get<double>()};
+          }),
+      other(
+          T::kDistortion, "distortion", "--distortion",
+          "\"k1 k2 p1 p2 k3\" or \"none\" instead of the lens distortion preset chosen by the sequence name "
+          "(freiburg1/2: TUM's calibration; frames are undistorted at loading)",
+          [](const TrackerOptions& o) -> json {
+            if (!o.distortion) return nullptr;
+            const auto& d = *o.distortion;
+            return {{"k1", d.k1}, {"k2", d.k2}, {"p1", d.p1}, {"p2", d.p2}, {"k3", d.k3}};
+          },
+          [](TrackerOptions& o, const json& v) {
+            if (v.is_null()) return o.distortion.reset();
+            o.distortion =
+                odometry::io::Distortion{v.at("k1").get<double>(), v.at("k2").get<double>(), v.at("p1").get<double>(),
+                                         v.at("p2").get<double>(), v.at("k3").get<double>()};
+          }),
   };
   for (auto& o : t) {
     if (o.key == "policy.eps") o.type = OptionType::kOptionalNumber;  // null: the pi(D) rule

@@ -29,8 +29,8 @@ enum class OptionType {
 };
 
 struct TrackerOption {
-  std::string key;     // JSON path, dots between nesting levels: "problem.weights.nu"
-  std::string flag;    // "--nu"; empty: no flag (set by other flags or by the method)
+  std::string key;   // JSON path, dots between nesting levels: "problem.weights.nu"
+  std::string flag;  // "--nu"; empty: no flag (set by other flags or by the method)
   OptionType type = OptionType::kNumber;
   double lo = 0.0, hi = 0.0;  // range of numbers and integers
   bool lo_open = false;       // lo itself excluded

@@ -32,8 +32,8 @@ TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, c
 }
 
 std::optional<odometry::io::RpeResult> rpe_if_long_enough(const odometry::io::Trajectory& groundtruth,
-                                                         const odometry::io::Trajectory& estimate, double delta_s,
-                                                         std::string& why) {
+                                                          const odometry::io::Trajectory& estimate, double delta_s,
+                                                          std::string& why) {
   // Windows start at every estimate stamp that has one delta_s later inside the estimate.
   int windows = 0;
   for (const auto& p : estimate) windows += estimate.empty() || p.timestamp + delta_s <= estimate.back().timestamp;
@@ -58,25 +58,34 @@ nlohmann::json evaluation_json(const TrajectoryEvaluation& e) {
   j["estimate"] = e.estimate_path;
   j["delta_s"] = e.delta_s;
   j["max_dt_s"] = e.max_dt;
-  j["rpe"] = {{"trans_rmse_m_per_s", e.rpe.trans_rmse}, {"trans_mean", e.rpe.trans_mean},
-              {"trans_median", e.rpe.trans_median}, {"trans_max", e.rpe.trans_max},
+  j["rpe"] = {{"trans_rmse_m_per_s", e.rpe.trans_rmse},   {"trans_mean", e.rpe.trans_mean},
+              {"trans_median", e.rpe.trans_median},       {"trans_max", e.rpe.trans_max},
               {"rot_rmse_deg_per_s", e.rpe.rot_rmse_deg}, {"rot_mean_deg", e.rpe.rot_mean_deg},
-              {"rot_max_deg", e.rpe.rot_max_deg}, {"pairs", e.rpe.pairs.size()}};
+              {"rot_max_deg", e.rpe.rot_max_deg},         {"pairs", e.rpe.pairs.size()}};
   nlohmann::json windows = nlohmann::json::array();
   for (const auto& p : e.rpe.pairs) {
-    windows.push_back({{"t_est_0", p.t_est_0}, {"t_est_1", p.t_est_1}, {"t_gt_0", p.t_gt_0},
-                       {"t_gt_1", p.t_gt_1}, {"trans", p.trans}, {"rot_rad", p.rot_rad}});
+    windows.push_back({{"t_est_0", p.t_est_0},
+                       {"t_est_1", p.t_est_1},
+                       {"t_gt_0", p.t_gt_0},
+                       {"t_gt_1", p.t_gt_1},
+                       {"trans", p.trans},
+                       {"rot_rad", p.rot_rad}});
   }
   j["rpe"]["windows"] = windows;
-  j["ate"] = {{"rmse_m", e.ate.rmse}, {"mean", e.ate.mean}, {"median", e.ate.median},
-              {"max", e.ate.max}, {"matches", e.ate.errors.size()}};
+  j["ate"] = {{"rmse_m", e.ate.rmse},
+              {"mean", e.ate.mean},
+              {"median", e.ate.median},
+              {"max", e.ate.max},
+              {"matches", e.ate.errors.size()}};
   return j;
 }
 
 std::string evaluation_line(const TrajectoryEvaluation& e, bool as_json) {
   if (as_json) {
-    const nlohmann::json line = {{"rpe_trans", e.rpe.trans_rmse}, {"rpe_rot", e.rpe.rot_rmse_deg},
-                                 {"ate", e.ate.rmse}, {"pairs", e.rpe.pairs.size()}};
+    const nlohmann::json line = {{"rpe_trans", e.rpe.trans_rmse},
+                                 {"rpe_rot", e.rpe.rot_rmse_deg},
+                                 {"ate", e.ate.rmse},
+                                 {"pairs", e.rpe.pairs.size()}};
     return line.dump();
   }
   std::ostringstream line;

@@ -25,8 +25,8 @@ TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, c
 // when the estimate spans fewer than the two windows RPE needs (a short run is a result to
 // show, not an error); other failures (no overlap with the ground truth) throw bivo::Error.
 std::optional<odometry::io::RpeResult> rpe_if_long_enough(const odometry::io::Trajectory& groundtruth,
-                                                         const odometry::io::Trajectory& estimate, double delta_s,
-                                                         std::string& why);
+                                                          const odometry::io::Trajectory& estimate, double delta_s,
+                                                          std::string& why);
 // Whether a note or error says "too short" (rpe_if_long_enough).
 bool is_too_short(const std::string& why);
 

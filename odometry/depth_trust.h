@@ -17,9 +17,9 @@
 namespace bivo::odometry {
 
 struct DepthTrust {
-  double statistic = 0.0;                   // T above (0 when F_I has no information)
-  Eigen::Matrix<double, 6, 1> step;         // x_I - x in the tangent space (Gauss-Newton step of F_I)
-  int rank = 0;                             // directions of H_I with information
+  double statistic = 0.0;            // T above (0 when F_I has no information)
+  Eigen::Matrix<double, 6, 1> step;  // x_I - x in the tangent space (Gauss-Newton step of F_I)
+  int rank = 0;                      // directions of H_I with information
 };
 
 // T from the quadratic model of F_I at x and the intensity noise scale sigma_I of that

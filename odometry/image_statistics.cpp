@@ -95,8 +95,8 @@ const std::vector<std::uint32_t>& top_bits_histogram(const ImageF& im, const Sel
 // histogram finds their buckets, whose few members nth_element sorts out (two passes over
 // the image instead of a selection over all of it).
 template <class Selected>
-void select_ranks(const ImageF& im, const Selected& selected, const std::vector<std::uint32_t>& hist,
-                  std::size_t k_lo, std::size_t k_hi, float& lo, float& hi) {
+void select_ranks(const ImageF& im, const Selected& selected, const std::vector<std::uint32_t>& hist, std::size_t k_lo,
+                  std::size_t k_hi, float& lo, float& hi) {
   std::size_t before = 0, bucket_lo = 0, bucket_hi = 0, base_lo = 0, base_hi = 0;
   bool found_lo = false;
   for (std::size_t b = 0; b < hist.size(); ++b) {
@@ -339,11 +339,11 @@ FrameStatistics frame_statistics(const RgbdLevel& level, int threads, bool with_
   const ImageF& I = level.intensity;
   const ImageF& D = level.depth;
   FrameStatistics s;
-  const FrameSums f = sum_over_chunks<FrameSums>(
-      static_cast<std::size_t>(row_chunks(I.height)), 1, threads, [&](std::size_t c, std::size_t) {
-        const int y0 = static_cast<int>(c) * kRowsPerChunk;
-        return frame_rows(I, D, y0, y0 + kRowsPerChunk);
-      });
+  const FrameSums f = sum_over_chunks<FrameSums>(static_cast<std::size_t>(row_chunks(I.height)), 1, threads,
+                                                 [&](std::size_t c, std::size_t) {
+                                                   const int y0 = static_cast<int>(c) * kRowsPerChunk;
+                                                   return frame_rows(I, D, y0, y0 + kRowsPerChunk);
+                                                 });
   s.pi_intensity = metric_of(f.di);
   s.pi_depth = metric_of(f.dd);
   s.var_intensity = variance_of(f.mi);

@@ -71,7 +71,9 @@ class JointScaleIteration {
     return as_scale(as_vector(s_) - step, plain.passes);
   }
   bool within_bounds(const JointScale& n, const JointScale& plain) const {
-    const auto inside = [](double v, double x, double y) { return v >= 0.5 * std::min(x, y) && v <= 2.0 * std::max(x, y); };
+    const auto inside = [](double v, double x, double y) {
+      return v >= 0.5 * std::min(x, y) && v <= 2.0 * std::max(x, y);
+    };
     return inside(n.s_ii, s_.s_ii, plain.s_ii) && inside(n.s_dd, s_.s_dd, plain.s_dd);
   }
 
@@ -102,7 +104,8 @@ JointScale estimate_joint_scale(const TermBuffers& buf, std::size_t n, const Wei
   for (int pass = 0; pass < options.max_scale_iterations; ++pass) {
     const JointScaleParams p = it.params();
     const JointScaleSums sums = sum_over_chunks<JointScaleSums>(
-        padded, kChunkTerms, threads, [&](std::size_t b, std::size_t e) { return kernels.joint_scale_sums(p, buf, b, e); });
+        padded, kChunkTerms, threads,
+        [&](std::size_t b, std::size_t e) { return kernels.joint_scale_sums(p, buf, b, e); });
     if (sums.count < 3 || !it.update(sums)) break;
   }
   return it.scale();
@@ -124,8 +127,8 @@ WeightModel joint_weight_model(const JointScale& s, const WeightOptions& options
 }
 
 JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsigned char* valid_i,
-                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options,
-                                 float* w_i, float* w_d, const JointScale& initial) {
+                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options, float* w_i,
+                                 float* w_d, const JointScale& initial) {
   // The kernels' layout: padded buffers, residuals 0 where invalid, validity as flags.
   const std::size_t padded = padded_terms(n);
   std::vector<float> ri(padded, 0.0f), rd(padded, 0.0f), wi(padded, 0.0f), wd(padded, 0.0f);

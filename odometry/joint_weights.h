@@ -34,8 +34,8 @@ struct JointScale {
 // and returns S. `initial` (when valid) starts the fixed point there. When fewer than 3
 // terms have both residuals the scale is that of the marginals alone (s_id = 0).
 JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsigned char* valid_i,
-                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options,
-                                 float* w_i, float* w_d, const JointScale& initial = {});
+                                 const unsigned char* valid_d, std::size_t n, const WeightOptions& options, float* w_i,
+                                 float* w_d, const JointScale& initial = {});
 // Over the RGB-D problem's term buffers (n terms, padded_terms(n) entries; flags bit 0 =
 // r_I valid, bit 1 = r_D valid): S alone, each pass by `kernels` over `threads` (results do
 // not depend on the thread count). The weights are then applied by the kernels' weight

@@ -29,8 +29,7 @@ NoiseBoundedLevel solve_noise_bounded(RgbdOdometryProblem& problem, const Policy
   NoiseBoundedLevel out;
   solvers::SolverOptions photometric_options = solver_options;
   photometric_options.keep_final_point = true;  // the bounded stage starts at x_I
-  const solvers::Summary photometric =
-      solvers::solve(problem, solvers::WeightedSum(0.0), "gn", x, photometric_options);
+  const solvers::Summary photometric = solvers::solve(problem, solvers::WeightedSum(0.0), "gn", x, photometric_options);
   const Eigen::VectorXd x_i = x;
   // The first linearization of the bounded stage is at x_I: its F_D / trace(Omega_D) is the
   // depth-residual level the bound is relative to; eps_bar is frozen there.

@@ -13,12 +13,11 @@ struct MethodName {
   Method method;
   const char* name;
 };
-constexpr MethodName kMethods[] = {{Method::kSingle, "single"},   {Method::kDepth, "depth"},
-                                   {Method::kFixed, "fixed"},     {Method::kTykkala, "tykkala"},
-                                   {Method::kWeighted, "weighted"}, {Method::kBounded, "bounded"},
-                                   {Method::kJoint, "joint"},       {Method::kScaled, "scaled"},
-                                   {Method::kNoiseBounded, "noise-bounded"},
-                                   {Method::kRobust, "robust"}};
+constexpr MethodName kMethods[] = {
+    {Method::kSingle, "single"},   {Method::kDepth, "depth"},       {Method::kFixed, "fixed"},
+    {Method::kTykkala, "tykkala"}, {Method::kWeighted, "weighted"}, {Method::kBounded, "bounded"},
+    {Method::kJoint, "joint"},     {Method::kScaled, "scaled"},     {Method::kNoiseBounded, "noise-bounded"},
+    {Method::kRobust, "robust"}};
 
 // The statistics a policy value came from, for messages.
 std::string statistics_text(const FrameStatistics& s) {
@@ -95,9 +94,7 @@ std::string default_backend(Method method) { return is_bounded(method) ? "exact"
 
 bool reads_medians(Method method) { return method == Method::kTykkala; }
 
-bool reads_frame_statistics(Method method) {
-  return method == Method::kWeighted || method == Method::kBounded;
-}
+bool reads_frame_statistics(Method method) { return method == Method::kWeighted || method == Method::kBounded; }
 
 double tykkala_lambda(const FrameStatistics& s) { return checked(tykkala_formula(s), kTykkalaWhat, s); }
 
@@ -114,17 +111,22 @@ std::optional<double> frame_lambda(Method method, const FrameStatistics& s, cons
                                    std::string* why) {
   switch (method) {
     case Method::kSingle:
-    case Method::kDepth: return 0.0;
-    case Method::kFixed: return defined(p.lambda, "fixed lambda", s, why);
-    case Method::kTykkala: return defined(tykkala_formula(s), kTykkalaWhat, s, why);
-    case Method::kWeighted: return defined(adaptive_formula(s, p.phi), kAdaptiveWhat, s, why);
+    case Method::kDepth:
+      return 0.0;
+    case Method::kFixed:
+      return defined(p.lambda, "fixed lambda", s, why);
+    case Method::kTykkala:
+      return defined(tykkala_formula(s), kTykkalaWhat, s, why);
+    case Method::kWeighted:
+      return defined(adaptive_formula(s, p.phi), kAdaptiveWhat, s, why);
     case Method::kJoint:
     case Method::kScaled:
     case Method::kRobust:
       throw Error(std::string("method '") + to_string(method) +
                   "' has no per-frame lambda (it is estimated at every linearization from the residuals)");
     case Method::kBounded:
-    case Method::kNoiseBounded: break;
+    case Method::kNoiseBounded:
+      break;
   }
   throw Error(std::string("method '") + to_string(method) + "' has no lambda (it bounds F_D instead)");
 }

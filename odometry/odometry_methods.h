@@ -53,17 +53,17 @@ std::string default_backend(Method method);
 
 // Defaults chosen by the sweeps of docs/results/defaults.md.
 struct PolicyParameters {
-  double lambda = 1e5;          // method fixed [gray^2 / m^2]
-  double phi = 100.0;           // method weighted: the adjustable constant of eq. `eq to calculate lambda`
-  double delta = 0.02;          // method bounded: threshold on pi(D) [m per pixel]
-  double eps_min = 3e-4;        // method bounded: per-unit-weight bound [m^2] on rich structure
-  double eps_max = 1e-3;        // method bounded: per-unit-weight bound [m^2] on poor structure
-  std::optional<double> eps;    // method bounded: fixed per-unit-weight bound overriding the rule
+  double lambda = 1e5;        // method fixed [gray^2 / m^2]
+  double phi = 100.0;         // method weighted: the adjustable constant of eq. `eq to calculate lambda`
+  double delta = 0.02;        // method bounded: threshold on pi(D) [m per pixel]
+  double eps_min = 3e-4;      // method bounded: per-unit-weight bound [m^2] on rich structure
+  double eps_max = 1e-3;      // method bounded: per-unit-weight bound [m^2] on poor structure
+  std::optional<double> eps;  // method bounded: fixed per-unit-weight bound overriding the rule
   // scaled, noise-bounded: chosen by the sweep over all nine sequences of docs/odometry.md
   // ("How the defaults were chosen": the smallest worst RPE ratio to single).
-  double kappa = 0.03;          // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
-  double eps_ratio = 0.8;       // method noise-bounded: eps_bar / depth-residual level at x_I
-  double guard = 168.0;         // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
+  double kappa = 0.03;     // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
+  double eps_ratio = 0.8;  // method noise-bounded: eps_bar / depth-residual level at x_I
+  double guard = 168.0;    // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
   // method noise-bounded: a level whose bound the guard relaxed continues its photometric
   // solution x_I to this relative merit change (its coarser levels may have pulled its start
   // towards the depth objective); 1.055x -> 1.03x worst ratio to single (docs/odometry.md).

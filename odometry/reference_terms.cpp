@@ -121,8 +121,8 @@ ReferenceArrays ReferenceTerms::view() const {
   return v;
 }
 
-ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
-                                    bool with_gradients, int threads, const KernelTable& kernels) {
+ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth, bool with_gradients,
+                                    int threads, const KernelTable& kernels) {
   const ImageF& I = reference.intensity;
   const ImageF& D = reference.depth;
   const io::Intrinsics& K = reference.K;

@@ -22,16 +22,15 @@ namespace bivo::odometry {
 struct ReferenceTerms {
   PooledFloats x, y, z, intensity;
   PooledFloats gi_u, gi_v, gd_u, gd_v;  // empty unless asked for
-  std::size_t count = 0;                      // terms; the arrays hold padded_terms(count)
+  std::size_t count = 0;                // terms; the arrays hold padded_terms(count)
 
   ReferenceArrays view() const;
 };
 
 // Rows are split over `threads` threads (oneTBB, parallel_chunks.h); each row's terms come
 // from the kernels' reference_row. The terms and their order depend on neither.
-ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth,
-                                    bool with_gradients, int threads = 1,
-                                    const KernelTable& kernels = default_kernels());
+ReferenceTerms make_reference_terms(const RgbdLevel& reference, double min_depth, double max_depth, bool with_gradients,
+                                    int threads = 1, const KernelTable& kernels = default_kernels());
 
 // [I(0), D(0), I(1), D(1), ...] in row-major pixel order.
 std::vector<float> interleave_intensity_depth(const RgbdLevel& level);

@@ -93,9 +93,9 @@ void jacobian_row(double qx, double qy, double qz, double gu, double gv, bool mi
 
 }  // namespace
 
-solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLevel& current,
-                                       const Eigen::Isometry3d& T, bool depth, bool with_jacobian,
-                                       const float* weights, const DoublePathOptions& options) {
+solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLevel& current, const Eigen::Isometry3d& T,
+                                       bool depth, bool with_jacobian, const float* weights,
+                                       const DoublePathOptions& options) {
   const WarpContext ctx(T, current, options.occlusion_margin);
   const Eigen::Index n = static_cast<Eigen::Index>(ref.count);
   solvers::ResidualData out;

@@ -21,7 +21,7 @@ struct DoublePathOptions {
 // r (0 where invalid), J if asked (0 rows where invalid) and w = weights[k] for objective
 // depth ? r_D : r_I at T_21 = T. weights holds reference.count entries.
 solvers::ResidualData double_residuals(const ReferenceTerms& reference, const RgbdLevel& current,
-                                       const Eigen::Isometry3d& T, bool depth, bool with_jacobian,
-                                       const float* weights, const DoublePathOptions& options);
+                                       const Eigen::Isometry3d& T, bool depth, bool with_jacobian, const float* weights,
+                                       const DoublePathOptions& options);
 
 }  // namespace bivo::odometry

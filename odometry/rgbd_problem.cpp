@@ -68,10 +68,14 @@ JacobianKind parse_jacobian_kind(const std::string& name) {
 
 const char* to_string(JacobianKind kind) {
   switch (kind) {
-    case JacobianKind::kForward: return "forward";
-    case JacobianKind::kInverse: return "inverse";
-    case JacobianKind::kEsm: return "esm";
-    case JacobianKind::kMethodDefault: return "auto";
+    case JacobianKind::kForward:
+      return "forward";
+    case JacobianKind::kInverse:
+      return "inverse";
+    case JacobianKind::kEsm:
+      return "esm";
+    case JacobianKind::kMethodDefault:
+      return "auto";
   }
   return "?";
 }
@@ -212,8 +216,9 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask,
   p.weighted_sums = weighted_sums;
   const ReferenceArrays ref = reference_terms_.view();
   const TermBuffers buf = buffers();
-  warp_sums_ = sum_over_chunks<WarpSums>(r_i_.size(), kChunkTerms, options_.threads,
-                                         [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  warp_sums_ = sum_over_chunks<WarpSums>(r_i_.size(), kChunkTerms, options_.threads, [&](std::size_t b, std::size_t e) {
+    return kernels_->warp(p, ref, buf, b, e);
+  });
   warp_sums_weighted_ = weighted_sums;
   warp_mask_ = mask;
   warp_x_ = x;
@@ -237,8 +242,8 @@ void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& a
   const ResidualSet depth{r_d_.data(), flags(), 2, at.valid_d, at.ss_d};
   if (mask.intensity && mask.depth) {
     const std::array<double, 2> sigma =
-        estimate_scales(intensity, depth, n, options_.weights, {stats_.sigma_intensity, stats_.sigma_depth},
-                        *kernels_, options_.threads);
+        estimate_scales(intensity, depth, n, options_.weights, {stats_.sigma_intensity, stats_.sigma_depth}, *kernels_,
+                        options_.threads);
     stats_.sigma_intensity = sigma[0];
     stats_.sigma_depth = sigma[1];
   } else if (mask.intensity) {
@@ -325,7 +330,8 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
     const Eigen::Isometry3d T = se3::from_ambient(x);
     const DoublePathOptions dp{options_.occlusion_margin, gradients_};
     const auto full = [&](bool depth, bool modelled) {
-      if (modelled) return double_residuals(reference_terms_, *current_, T, depth, true, (depth ? w_d_ : w_i_).data(), dp);
+      if (modelled)
+        return double_residuals(reference_terms_, *current_, T, depth, true, (depth ? w_d_ : w_i_).data(), dp);
       const Eigen::Index n = num_terms();
       return solvers::ResidualData{Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Zero(n, 6), Eigen::VectorXd::Zero(n)};
     };
@@ -385,8 +391,9 @@ std::array<double, 2> RgbdOdometryProblem::evaluate_only(const Eigen::VectorXd& 
   p.store = false;
   const ReferenceArrays ref = reference_terms_.view();
   const TermBuffers buf = buffers();
-  const WarpSums s = sum_over_chunks<WarpSums>(
-      r_i_.size(), kChunkTerms, options_.threads, [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
+  const WarpSums s =
+      sum_over_chunks<WarpSums>(r_i_.size(), kChunkTerms, options_.threads,
+                                [&](std::size_t b, std::size_t e) { return kernels_->warp(p, ref, buf, b, e); });
   counted_x_ = x;
   counted_sums_ = s;
   if (options_.depth_first) return {s.f_d, s.f_i};
@@ -402,9 +409,9 @@ std::array<double, 2> RgbdOdometryProblem::objectives_at(const Eigen::VectorXd& 
   estimate_weights(both(), warp_sums_);
   const TermBuffers buf = buffers();
   const WeightModel m = model_;
-  const WeighSums s = sum_over_chunks<WeighSums>(
-      r_i_.size(), kChunkTerms, options_.threads,
-      [&](std::size_t b, std::size_t e) { return kernels_->weigh(m, both(), buf, b, e); });
+  const WeighSums s =
+      sum_over_chunks<WeighSums>(r_i_.size(), kChunkTerms, options_.threads,
+                                 [&](std::size_t b, std::size_t e) { return kernels_->weigh(m, both(), buf, b, e); });
   weights_mask_ = both();
   stats_.valid_intensity = static_cast<int>(warp_sums_.valid_i);
   stats_.valid_depth = static_cast<int>(warp_sums_.valid_d);
@@ -469,12 +476,13 @@ std::optional<std::string> RgbdOdometryProblem::degenerate(const Eigen::VectorXd
   }
   const long long valid = options_.depth_first ? s.valid_d : s.valid_i;
   const long long terms = num_terms();
-  const double needed = std::max<double>(options_.min_valid_terms, options_.min_valid_fraction * static_cast<double>(terms));
+  const double needed =
+      std::max<double>(options_.min_valid_terms, options_.min_valid_fraction * static_cast<double>(terms));
   if (static_cast<double>(valid) >= needed) return std::nullopt;
   return std::to_string(valid) + " of " + std::to_string(terms) + " terms valid, fewer than " +
          std::to_string(static_cast<long long>(std::ceil(needed))) + " (min_valid_terms " +
-         std::to_string(options_.min_valid_terms) + ", min_valid_fraction " + std::to_string(options_.min_valid_fraction) +
-         ")";
+         std::to_string(options_.min_valid_terms) + ", min_valid_fraction " +
+         std::to_string(options_.min_valid_fraction) + ")";
 }
 
 solvers::ResidualData RgbdOdometryProblem::residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) {

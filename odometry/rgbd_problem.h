@@ -23,10 +23,10 @@
 #include <vector>
 
 #include "odometry/joint_weights.h"
-#include "odometry/reference_terms.h"
 #include "odometry/kernels/kernels.h"
-#include "odometry/robust_weights.h"
+#include "odometry/reference_terms.h"
 #include "odometry/rgbd_pyramid.h"
+#include "odometry/robust_weights.h"
 #include "solvers/geometry/manifold.h"
 #include "solvers/problem.h"
 
@@ -43,9 +43,9 @@ const char* to_string(JacobianKind kind);
 
 struct RgbdProblemOptions {
   WeightOptions weights;
-  double min_depth = 0.1;          // metres: reference depths outside [min, max] are not used
+  double min_depth = 0.1;  // metres: reference depths outside [min, max] are not used
   double max_depth = 10.0;
-  double occlusion_margin = 0.1;   // metres: q_z beyond D_2(y) + margin counts as occluded
+  double occlusion_margin = 0.1;  // metres: q_z beyond D_2(y) + margin counts as occluded
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;
@@ -56,7 +56,7 @@ struct RgbdProblemOptions {
   // (methods with lambda = 0); objectives_at() still gives both.
   bool model_f2 = true;
   JacobianKind jacobian = JacobianKind::kForward;
-  int threads = 1;                 // per-pixel passes; results are identical for every count
+  int threads = 1;  // per-pixel passes; results are identical for every count
   // degenerate(x): a pose whose warp leaves fewer valid terms of F_1 than this, or fewer than
   // this fraction of the reference terms, measures too little to be an estimate (a long step
   // can reach F = 0 by leaving the image). The tracker sets the count from min_valid_pixels.
@@ -68,13 +68,13 @@ struct RgbdProblemOptions {
 
 // What the latest linearize() saw (weights and scale are those of that call).
 struct RgbdLinearizationStats {
-  int terms = 0;               // reference pixels with valid depth (rows of r_I, r_D)
-  int valid_intensity = 0;     // terms with a valid r_I at x
-  int valid_depth = 0;         // terms with a valid r_D at x
-  double sigma_intensity = 0.0, sigma_depth = 0.0;          // robust scales
+  int terms = 0;                                              // reference pixels with valid depth (rows of r_I, r_D)
+  int valid_intensity = 0;                                    // terms with a valid r_I at x
+  int valid_depth = 0;                                        // terms with a valid r_D at x
+  double sigma_intensity = 0.0, sigma_depth = 0.0;            // robust scales
   double weight_sum_intensity = 0.0, weight_sum_depth = 0.0;  // trace of Omega_I, Omega_D
-  JointScale joint_scale;      // options.joint_weights: the scale matrix S (else zero)
-  double f_intensity = 0.0, f_depth = 0.0;                  // F_I, F_D at x (0 when not modelled)
+  JointScale joint_scale;                                     // options.joint_weights: the scale matrix S (else zero)
+  double f_intensity = 0.0, f_depth = 0.0;                    // F_I, F_D at x (0 when not modelled)
 };
 
 class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
@@ -153,7 +153,7 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   PooledFloats flag_storage_;
   std::uint8_t* flags() { return reinterpret_cast<std::uint8_t*>(flag_storage_.data()); }
   ObjectiveMask weights_mask_{false, false};  // objectives whose weights the buffers hold
-  WeightModel model_;                          // as of the latest estimate_weights()
+  WeightModel model_;                         // as of the latest estimate_weights()
   // The latest warp: at which x, for which objectives, and its sums.
   Eigen::VectorXd warp_x_;
   ObjectiveMask warp_mask_{false, false};

@@ -149,8 +149,7 @@ struct MeanValid4Lanes {
   }
 };
 
-__attribute__((target_clones("avx2", "default"))) void mean4_rows(const ImageF& fine, ImageF& coarse, int y0,
-                                                                  int y1) {
+__attribute__((target_clones("avx2", "default"))) void mean4_rows(const ImageF& fine, ImageF& coarse, int y0, int y1) {
   reduce_rows(fine, coarse, y0, y1, Mean4Lanes{}, mean4);
 }
 

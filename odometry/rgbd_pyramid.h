@@ -23,7 +23,7 @@ struct RgbdLevel {
   int level = 0;
   ImageF intensity;  // 0..255
   ImageF depth;      // metres, 0 = missing
-  io::Intrinsics K;      // intrinsics of this level
+  io::Intrinsics K;  // intrinsics of this level
   // [I, D] per pixel, interleaved (what the float kernels read; build_pyramid fills it, a
   // problem on a level without it interleaves its own copy). Pooled (pooled_floats.h): the
   // next frame's pyramid reuses these pages; a level is therefore move-only.

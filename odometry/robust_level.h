@@ -17,10 +17,10 @@
 namespace bivo::odometry {
 
 struct RobustLevel {
-  solvers::Summary summary;   // of the last stage (iterations: all stages)
-  double lambda = 0.0;        // joint's implied lambda at its last step
-  double statistic = 0.0;     // the trust statistic T at the bi-objective estimate
-  bool distrusted = false;    // T > trust: the level ended on F_I alone
+  solvers::Summary summary;  // of the last stage (iterations: all stages)
+  double lambda = 0.0;       // joint's implied lambda at its last step
+  double statistic = 0.0;    // the trust statistic T at the bi-objective estimate
+  bool distrusted = false;   // T > trust: the level ended on F_I alone
 };
 
 // `exact_finish`: iterations of the exact (current-side) continuation of the bi-objective

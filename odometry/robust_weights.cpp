@@ -19,9 +19,12 @@ WeightKind parse_weight_kind(const std::string& name) {
 
 const char* to_string(WeightKind kind) {
   switch (kind) {
-    case WeightKind::kTDistribution: return "tdist";
-    case WeightKind::kHuber: return "huber";
-    case WeightKind::kNone: return "none";
+    case WeightKind::kTDistribution:
+      return "tdist";
+    case WeightKind::kHuber:
+      return "huber";
+    case WeightKind::kNone:
+      return "none";
   }
   return "?";
 }
@@ -97,8 +100,8 @@ double huber_scale(std::vector<float>& absr, double sum_squares) {
 
 }  // namespace
 
-double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n,
-                       const WeightOptions& options, float* weights, double initial_sigma) {
+double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n, const WeightOptions& options,
+                       float* weights, double initial_sigma) {
   double sum_sq = 0.0;
   std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -223,9 +226,15 @@ WeightModel weight_model(const WeightOptions& options, double sigma_i, double si
     return w;
   };
   switch (options.kind) {
-    case WeightKind::kTDistribution: m.kind = WeightModel::kTDistribution; break;
-    case WeightKind::kHuber: m.kind = WeightModel::kHuber; break;
-    case WeightKind::kNone: m.kind = WeightModel::kUnit; break;
+    case WeightKind::kTDistribution:
+      m.kind = WeightModel::kTDistribution;
+      break;
+    case WeightKind::kHuber:
+      m.kind = WeightModel::kHuber;
+      break;
+    case WeightKind::kNone:
+      m.kind = WeightModel::kUnit;
+      break;
   }
   m.intensity = objective(sigma_i);
   m.depth = objective(sigma_d);

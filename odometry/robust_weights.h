@@ -29,8 +29,8 @@ const char* to_string(WeightKind kind);
 
 struct WeightOptions {
   WeightKind kind = WeightKind::kTDistribution;
-  double nu = 5.0;            // degrees of freedom of the t-distribution
-  double huber_k = 1.345;     // Huber threshold in units of the robust scale
+  double nu = 5.0;         // degrees of freedom of the t-distribution
+  double huber_k = 1.345;  // Huber threshold in units of the robust scale
   int max_scale_iterations = 50;
   double scale_tolerance = 1e-4;  // relative change of sigma^2 that ends the iteration
 };
@@ -39,8 +39,8 @@ struct WeightOptions {
 // returns the scale sigma (0 when there are no valid residuals or all are 0; the weights
 // are then 1). residuals, valid and weights have the same length. initial_sigma > 0 starts
 // the t-distribution's fixed-point iteration there (e.g. the previous iteration's scale).
-double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n,
-                       const WeightOptions& options, float* weights, double initial_sigma = 0.0);
+double compute_weights(const float* residuals, const unsigned char* valid, std::size_t n, const WeightOptions& options,
+                       float* weights, double initial_sigma = 0.0);
 
 // What the scale estimation needs to know about one objective's residuals in the buffers
 // (invalid terms hold r = 0): the residuals, how many are valid, their sum of squares.

@@ -131,8 +131,8 @@ TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& opt
         options.initial_guess == InitialGuess::kConstantVelocity ? velocity : Eigen::Isometry3d::Identity();
     const auto t_step = Clock::now();
     const double cpu0 = cpu_seconds();
-    StreamStep step = estimate_motion_preparing_next(reference, current, prior, options, std::move(next_image),
-                                                     seq.intrinsics);
+    StreamStep step =
+        estimate_motion_preparing_next(reference, current, prior, options, std::move(next_image), seq.intrinsics);
     PairResult pair = std::move(step.pair);
     pair.index = k - 1;
     pair.profile.add("pyramid", lead_seconds + step.next_prepare_seconds);
@@ -147,7 +147,8 @@ TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& opt
     const Eigen::Isometry3d T_w_cur = T_w_ref * pair.T_21.inverse();
     pair.T_wc = T_w_cur;
     if (seq.groundtruth) {
-      if (const auto gt = io::groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
+      if (const auto gt =
+              io::groundtruth_motion(*seq.groundtruth, seq.frames[k - 1].rgb_time, seq.frames[k].rgb_time)) {
         pair.error = io::pose_error(pair.T_21, *gt);
       }
     }

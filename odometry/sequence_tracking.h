@@ -18,8 +18,8 @@ namespace bivo::odometry {
 
 struct StreamStep {
   PairResult pair;
-  PreparedFrame next;                  // empty without a next image
-  double next_prepare_seconds = 0.0;   // wall time of next's preparation (beside the estimate)
+  PreparedFrame next;                 // empty without a next image
+  double next_prepare_seconds = 0.0;  // wall time of next's preparation (beside the estimate)
 };
 
 // next_image is prepared with options' levels, threads and finest level; its statistics only

@@ -17,9 +17,9 @@
 #include "odometry/robust_level.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
+#include "solvers/geometry/se3.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
-#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry {
 namespace {
@@ -94,7 +94,8 @@ void validate(const TrackerOptions& options) {
                 std::to_string(options.finest_level));
   }
   if (options.exact_finish_iterations < 0) {
-    throw Error("exact finish iterations must be >= 0 (0: off), got " + std::to_string(options.exact_finish_iterations));
+    throw Error("exact finish iterations must be >= 0 (0: off), got " +
+                std::to_string(options.exact_finish_iterations));
   }
   if (!(options.problem.min_valid_fraction >= 0.0 && options.problem.min_valid_fraction <= 1.0)) {
     throw Error("min valid fraction must be in [0, 1], got " + std::to_string(options.problem.min_valid_fraction));
@@ -131,7 +132,8 @@ void validate(const TrackerOptions& options) {
     throw Error("step extrapolation must be in [1, 100] (1 = off), got " + std::to_string(options.step_extrapolation));
   }
   if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
-    throw Error("pixel motion tolerance must be finite and >= 0, got " + std::to_string(options.pixel_motion_tolerance));
+    throw Error("pixel motion tolerance must be finite and >= 0, got " +
+                std::to_string(options.pixel_motion_tolerance));
   }
   if (options.problem.threads < 1 || options.problem.threads > 256) {
     throw Error("threads must be in 1..256, got " + std::to_string(options.problem.threads));
@@ -282,15 +284,18 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
         return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, so)
                              : solvers::solve(problem, scalarization, *step_backend, x, so);
       };
-      const auto run = [&](const solvers::Scalarization& scalarization) { return run_with(scalarization, solver_options); };
+      const auto run = [&](const solvers::Scalarization& scalarization) {
+        return run_with(scalarization, solver_options);
+      };
       RgbdOdometryProblem* p = &problem;
       if (method == Method::kRobust) {
         if (depth_distrusted) {
           lr.relaxed = true;
           return run(solvers::WeightedSum(0.0));
         }
-        const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
-                                                  level == options.finest_level ? options.exact_finish_iterations : 0, x);
+        const RobustLevel rl =
+            solve_robust_level(problem, options.policy, run_with, solver_options,
+                               level == options.finest_level ? options.exact_finish_iterations : 0, x);
         lr.relaxed = depth_distrusted = rl.distrusted;
         lr.trust = rl.statistic;
         level_lambda = rl.lambda;
@@ -323,9 +328,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       // objective's landscape folds where points change surface): F_I alone first, with its
       // own weights, then the bi-objective solve from there.
       problem.set_objectives(false, false);
-      start_iterations = (whole_problem ? solvers::solve(problem, solvers::WeightedSum(0.0), backend_name, x, solver_options)
-                                        : solvers::solve(problem, solvers::WeightedSum(0.0), *step_backend, x, solver_options))
-                             .iterations;
+      start_iterations =
+          (whole_problem ? solvers::solve(problem, solvers::WeightedSum(0.0), backend_name, x, solver_options)
+                         : solvers::solve(problem, solvers::WeightedSum(0.0), *step_backend, x, solver_options))
+              .iterations;
       problem.set_objectives(true, true);
     }
     solvers::Summary summary = solve_level();
@@ -432,8 +438,8 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   const int n = static_cast<int>(seq.frames.size());
   for (int i : {reference_index, current_index}) {
     if (i < 0 || i >= n) {
-      throw Error("frame index " + std::to_string(i) + " outside 0.." + std::to_string(n - 1) + " of '" +
-                  directory + "'");
+      throw Error("frame index " + std::to_string(i) + " outside 0.." + std::to_string(n - 1) + " of '" + directory +
+                  "'");
     }
   }
   FramePair p;

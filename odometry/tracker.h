@@ -28,14 +28,14 @@
 
 #include <Eigen/Geometry>
 
-#include "odometry/io/camera_intrinsics.h"
 #include "odometry/image_statistics.h"
-#include "odometry/odometry_methods.h"
+#include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/pose_error.h"
-#include "odometry/rgbd_problem.h"
-#include "odometry/rgbd_pyramid.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/io/tum_dataset.h"
+#include "odometry/odometry_methods.h"
+#include "odometry/rgbd_problem.h"
+#include "odometry/rgbd_pyramid.h"
 #include "solvers/profiling.h"
 
 namespace bivo::odometry {
@@ -59,8 +59,8 @@ struct TrackerOptions {
   int levels = 4;                   // 640x480 .. 80x60
   int finest_level = 0;             // stop refining at this level (0 = full resolution)
   InitialGuess initial_guess = InitialGuess::kConstantVelocity;
-  int max_iterations = 20;          // per pyramid level
-  double step_tolerance = 1e-4;     // |delta| (m, rad) that ends a level
+  int max_iterations = 20;                    // per pyramid level
+  double step_tolerance = 1e-4;               // |delta| (m, rad) that ends a level
   double relative_decrease_tolerance = 1e-3;  // relative merit change that ends a level
                                               // (joint: PolicyParameters::joint_tolerance)
   // A step that would move the reference points' projections by less than this RMS image
@@ -82,33 +82,34 @@ struct TrackerOptions {
   // also evaluates the other one (weights estimated at the level's final x) for the logs,
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.
   bool evaluate_unused_objective = false;
-  int min_valid_pixels = 200;       // fewer valid terms at a level: the level is skipped
+  int min_valid_pixels = 200;                             // fewer valid terms at a level: the level is skipped
   RgbdProblemOptions problem = method_default_problem();  // weights (tdist/huber/none, nu), depth
-                                    // range, occlusion, Jacobian kind ("auto": the method's own,
-                                    // method_jacobian()), threads (also those of the pyramid)
-  double max_association_dt = 0.02; // seconds
-  std::optional<io::Intrinsics> intrinsics;  // override of the sequence-name preset
+                                                          // range, occlusion, Jacobian kind ("auto": the method's own,
+                                                          // method_jacobian()), threads (also those of the pyramid)
+  double max_association_dt = 0.02;                       // seconds
+  std::optional<io::Intrinsics> intrinsics;               // override of the sequence-name preset
   // Lens distortion of the stored images (override of the sequence-name preset, io/lens_distortion.h);
   // frames are undistorted once, at loading, when it is not the identity.
   std::optional<io::Distortion> distortion;
-  int first_frame = 0;              // index of the first associated frame processed
-  int max_frames = -1;              // frames processed from first_frame (-1: to the end)
-  bool start_at_groundtruth = true; // first pose from groundtruth.txt when it covers frame 0
+  int first_frame = 0;               // index of the first associated frame processed
+  int max_frames = -1;               // frames processed from first_frame (-1: to the end)
+  bool start_at_groundtruth = true;  // first pose from groundtruth.txt when it covers frame 0
   // track_sequence loads (decodes, undistorts) the next frame on a thread of its own while it
   // tracks a pair (io/frame_stream.h): the same results, a fr1/rpy run at one thread in 0.64x
   // (640x480) / 0.82x (320x240) the wall time. A pair's CPU time excludes the loader's, but
   // the decoder's memory traffic adds ~3-4 % to it at 320x240, and with threads >= 2 the
-  // loader takes turns with the per-pixel workers on the cores. false: frames load between pairs, on the calling thread.
+  // loader takes turns with the per-pixel workers on the cores. false: frames load between pairs, on the calling
+  // thread.
   bool prefetch_frames = true;
   // With prefetch_frames: loader threads, each decoding a frame of its own, so up to this many
   // frames ahead. One decoder cannot keep up with the tracker on TUM's PNGs (~17 ms per
   // 640x480 frame against ~12 ms per pair at 640x480 and ~4.5 ms at 320x240): two finish a
   // run sooner, but where they share the cores with the tracker they stretch every pair's
-  // wall time, which `bivo profile` and the runtime tables report (docs/faq.md). 0 = auto: two when the processors this process may run on have a core
-  // for each beside the per-pixel threads, else one (load_threads_for()). Results do not
+  // wall time, which `bivo profile` and the runtime tables report (docs/faq.md). 0 = auto: two when the processors this
+  // process may run on have a core for each beside the per-pixel threads, else one (load_threads_for()). Results do not
   // depend on it.
   int load_threads = 0;
-  int verbosity = 0;                // passed to the solver
+  int verbosity = 0;  // passed to the solver
 };
 
 // The loader threads `options` asks for: load_threads, or for 0 two when `cores` (0: the
@@ -122,64 +123,64 @@ void validate(const TrackerOptions& options);
 
 struct LevelResult {
   int level = 0;
-  int terms = 0;            // reference pixels with valid depth
+  int terms = 0;                             // reference pixels with valid depth
   int valid_intensity = 0, valid_depth = 0;  // at the final x of the level
   int iterations = 0;
-  bool skipped = false;     // too few valid pixels: x left unchanged
+  bool skipped = false;         // too few valid pixels: x left unchanged
   double f_i = 0.0, f_d = 0.0;  // final objectives (weights of the last linearization; the
                                 // objective single / depth do not optimize: NaN unless
                                 // TrackerOptions::evaluate_unused_objective)
-  double lambda = 0.0;      // weighted sum: lambda used (joint, scaled: at the last step)
-  double correlation = 0.0; // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
-  bool relaxed = false;     // noise-bounded: the guard relaxed the bound (x_I kept)
-  double trust = 0.0;       // robust: the depth trust statistic T at the level's bi-objective estimate
-                            // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved)
-  double guard_rise = 0.0;  // noise-bounded: (F_I(bounded) - F_I(x_I)) / sigma_I^2, the guard's statistic
-  double epsilon = 0.0;     // bounded: epsilon bound on F_D at the last step
-  double mu = 0.0;          // bounded: multiplier of the last step (+inf: infeasible)
+  double lambda = 0.0;          // weighted sum: lambda used (joint, scaled: at the last step)
+  double correlation = 0.0;     // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
+  bool relaxed = false;         // noise-bounded: the guard relaxed the bound (x_I kept)
+  double trust = 0.0;           // robust: the depth trust statistic T at the level's bi-objective estimate
+                                // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved)
+  double guard_rise = 0.0;      // noise-bounded: (F_I(bounded) - F_I(x_I)) / sigma_I^2, the guard's statistic
+  double epsilon = 0.0;         // bounded: epsilon bound on F_D at the last step
+  double mu = 0.0;              // bounded: multiplier of the last step (+inf: infeasible)
   std::string termination;
 };
 
 struct PairResult {
-  int index = 0;                         // pair k: frames k (reference) and k + 1 (current)
+  int index = 0;  // pair k: frames k (reference) and k + 1 (current)
   double t_reference = 0.0, t_current = 0.0;
-  Eigen::Isometry3d T_21 = Eigen::Isometry3d::Identity();      // estimated motion
-  Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();      // pose of the current frame
-  bool valid = true;                     // false: every level skipped, T_21 = motion prior
-  std::string note;                      // why a level or the pair was degraded
-  int iterations = 0;                    // outer iterations over all levels
-  double lambda = 0.0, epsilon = 0.0, mu = 0.0;  // at the finest level solved (joint: implied lambda)
-  double correlation = 0.0;              // joint: rho of S at the finest level solved
-  int relaxed_levels = 0;                // noise-bounded: levels whose bound the guard relaxed;
-                                         // robust: levels solved on F_I alone (depth distrusted)
-  double trust = 0.0;                    // robust: trust statistic at the finest level solved
-  double epsilon_per_weight = 0.0;       // bounded: eps_bar [m^2]
-  double f_i = 0.0, f_d = 0.0;           // at the finest level solved
-  double seconds = 0.0;                  // track_sequence: the estimation and a frame's pyramid
-                                         // + statistics (no PNG decoding), wall. The frame is the
-                                         // pair's current one with one thread; with more, the
-                                         // next pair's, prepared beside the estimation (the
-                                         // first pair: both)
-  double cpu_seconds = 0.0;              // the same span in CPU time: of the process (all
-                                         // threads) less the frame loaders' (prefetch_frames)
-  double load_seconds = 0.0;             // wall time spent waiting, before the estimation, for
-                                         // the frame prepared in `seconds` to load (PNG decoding,
-                                         // undistortion): all of it without
-                                         // TrackerOptions::prefetch_frames, the part the
-                                         // loader threads had not finished with it
-  solvers::PhaseProfile profile;         // "pyramid", "residuals", "weights", "normal_equations", ...
-  std::vector<LevelResult> levels;       // coarse to fine
-  std::optional<io::PoseError> error;        // against ground truth, when available
+  Eigen::Isometry3d T_21 = Eigen::Isometry3d::Identity();  // estimated motion
+  Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();  // pose of the current frame
+  bool valid = true;                                       // false: every level skipped, T_21 = motion prior
+  std::string note;                                        // why a level or the pair was degraded
+  int iterations = 0;                                      // outer iterations over all levels
+  double lambda = 0.0, epsilon = 0.0, mu = 0.0;            // at the finest level solved (joint: implied lambda)
+  double correlation = 0.0;                                // joint: rho of S at the finest level solved
+  int relaxed_levels = 0;                                  // noise-bounded: levels whose bound the guard relaxed;
+                                                           // robust: levels solved on F_I alone (depth distrusted)
+  double trust = 0.0;                                      // robust: trust statistic at the finest level solved
+  double epsilon_per_weight = 0.0;                         // bounded: eps_bar [m^2]
+  double f_i = 0.0, f_d = 0.0;                             // at the finest level solved
+  double seconds = 0.0;                                    // track_sequence: the estimation and a frame's pyramid
+                                                           // + statistics (no PNG decoding), wall. The frame is the
+                                                           // pair's current one with one thread; with more, the
+                                                           // next pair's, prepared beside the estimation (the
+                                                           // first pair: both)
+  double cpu_seconds = 0.0;                                // the same span in CPU time: of the process (all
+                                                           // threads) less the frame loaders' (prefetch_frames)
+  double load_seconds = 0.0;                               // wall time spent waiting, before the estimation, for
+                                                           // the frame prepared in `seconds` to load (PNG decoding,
+                                                           // undistortion): all of it without
+                                                           // TrackerOptions::prefetch_frames, the part the
+                                                           // loader threads had not finished with it
+  solvers::PhaseProfile profile;                           // "pyramid", "residuals", "weights", "normal_equations", ...
+  std::vector<LevelResult> levels;                         // coarse to fine
+  std::optional<io::PoseError> error;                      // against ground truth, when available
 };
 
 struct TrackResult {
   std::string sequence;
   io::Intrinsics intrinsics;
-  io::Trajectory trajectory;                 // one pose per frame, T_wc
+  io::Trajectory trajectory;  // one pose per frame, T_wc
   std::vector<PairResult> pairs;
-  solvers::PhaseProfile profile;         // summed over pairs (plus the first frame's pyramid)
+  solvers::PhaseProfile profile;  // summed over pairs (plus the first frame's pyramid)
   int invalid_pairs = 0;
-  double load_seconds = 0.0;             // waits for loading, all frames (not part of any pair)
+  double load_seconds = 0.0;  // waits for loading, all frames (not part of any pair)
 };
 
 // The frames [begin, end) of a sequence of `total` frames that options.first_frame and

@@ -30,7 +30,11 @@ void check_set(const char* which, const Eigen::VectorXd& t, const Eigen::VectorX
 
 ExponentialDecayPair::ExponentialDecayPair(Eigen::VectorXd t1, Eigen::VectorXd y1, Eigen::VectorXd w1,
                                            Eigen::VectorXd t2, Eigen::VectorXd y2, Eigen::VectorXd w2)
-    : t1_(std::move(t1)), y1_(std::move(y1)), w1_(std::move(w1)), t2_(std::move(t2)), y2_(std::move(y2)),
+    : t1_(std::move(t1)),
+      y1_(std::move(y1)),
+      w1_(std::move(w1)),
+      t2_(std::move(t2)),
+      y2_(std::move(y2)),
       w2_(std::move(w2)) {
   check_set("1", t1_, y1_, w1_);
   check_set("2", t2_, y2_, w2_);
@@ -51,7 +55,8 @@ ExponentialDecayPair ExponentialDecayPair::synthetic(int m, std::uint64_t seed) 
 
 solvers::ResidualData ExponentialDecayPair::residuals_of(int j, const Eigen::VectorXd& x, bool with_jacobian) const {
   if (j != 1 && j != 2) throw Error("exponential-decay pair: objective index must be 1 or 2, got " + std::to_string(j));
-  if (x.size() != 3) throw Error("exponential-decay pair: x must be [c1, c2, k], got " + std::to_string(x.size()) + " entries");
+  if (x.size() != 3)
+    throw Error("exponential-decay pair: x must be [c1, c2, k], got " + std::to_string(x.size()) + " entries");
   const Eigen::VectorXd& t = j == 1 ? t1_ : t2_;
   const double c = x(j - 1), k = x(2);
   const Eigen::VectorXd e = (-k * t.array()).exp().matrix();
@@ -75,7 +80,8 @@ std::array<double, 2> ExponentialDecayPair::evaluate(const Eigen::VectorXd& x) {
   return {d1.r.dot(d1.w.cwiseProduct(d1.r)), d2.r.dot(d2.w.cwiseProduct(d2.r))};
 }
 
-solvers::Linearization ExponentialDecayPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) {
+solvers::Linearization ExponentialDecayPair::linearize(const Eigen::VectorXd& x,
+                                                       const solvers::LinearizeOptions& options) {
   return solvers::linearize_from_residuals(*this, x, options);
 }
 

@@ -16,8 +16,9 @@ void check_block(const char* which, const Eigen::MatrixXd& A, const Eigen::Vecto
                  Eigen::Index n) {
   std::ostringstream msg;
   if (A.cols() != n || y.size() != A.rows() || w.size() != A.rows() || A.rows() == 0) {
-    msg << "linear least-squares pair: objective " << which << " has A " << A.rows() << "x" << A.cols() << ", y of size "
-        << y.size() << ", w of size " << w.size() << " (need A m x " << n << ", m > 0, y and w of size m)";
+    msg << "linear least-squares pair: objective " << which << " has A " << A.rows() << "x" << A.cols()
+        << ", y of size " << y.size() << ", w of size " << w.size() << " (need A m x " << n
+        << ", m > 0, y and w of size m)";
     throw Error(msg.str());
   }
   if (!A.allFinite() || !y.allFinite() || !w.allFinite()) {
@@ -47,12 +48,13 @@ Eigen::VectorXd uniform_weights(Eigen::Index m, std::mt19937_64& rng) {
 
 // A = U diag(s) V^T with orthonormal U (m x n), V (n x n), s log-spaced from 1 to 1/condition.
 Eigen::MatrixXd ill_conditioned_matrix(Eigen::Index m, Eigen::Index n, double condition, std::mt19937_64& rng) {
-  const Eigen::MatrixXd U = Eigen::HouseholderQR<Eigen::MatrixXd>(gaussian(m, n, rng)).householderQ() *
-                            Eigen::MatrixXd::Identity(m, n);
-  const Eigen::MatrixXd V = Eigen::HouseholderQR<Eigen::MatrixXd>(gaussian(n, n, rng)).householderQ() *
-                            Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd U =
+      Eigen::HouseholderQR<Eigen::MatrixXd>(gaussian(m, n, rng)).householderQ() * Eigen::MatrixXd::Identity(m, n);
+  const Eigen::MatrixXd V =
+      Eigen::HouseholderQR<Eigen::MatrixXd>(gaussian(n, n, rng)).householderQ() * Eigen::MatrixXd::Identity(n, n);
   Eigen::VectorXd s(n);
-  for (Eigen::Index i = 0; i < n; ++i) s(i) = std::pow(condition, -double(i) / double(std::max<Eigen::Index>(n - 1, 1)));
+  for (Eigen::Index i = 0; i < n; ++i)
+    s(i) = std::pow(condition, -double(i) / double(std::max<Eigen::Index>(n - 1, 1)));
   return U * s.asDiagonal() * V.transpose();
 }
 
@@ -91,7 +93,8 @@ LinearLeastSquaresPair LinearLeastSquaresPair::well_conditioned(int n, std::uint
   Eigen::VectorXd y1 = A1 * xa + 0.1 * gaussian(m, 1, rng).col(0);
   Eigen::VectorXd y2 = A2 * xb + 0.1 * gaussian(m, 1, rng).col(0);
   Eigen::VectorXd w1 = uniform_weights(m, rng), w2 = uniform_weights(m, rng);
-  return LinearLeastSquaresPair("linear LS pair (well-conditioned, n=" + std::to_string(n) + ")", A1, y1, w1, A2, y2, w2);
+  return LinearLeastSquaresPair("linear LS pair (well-conditioned, n=" + std::to_string(n) + ")", A1, y1, w1, A2, y2,
+                                w2);
 }
 
 LinearLeastSquaresPair LinearLeastSquaresPair::ill_conditioned(int n, std::uint64_t seed, double condition) {
@@ -124,7 +127,8 @@ std::array<double, 2> LinearLeastSquaresPair::objectives(const Eigen::VectorXd& 
 }
 
 solvers::ResidualData LinearLeastSquaresPair::residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) {
-  if (j != 1 && j != 2) throw Error("linear least-squares pair: objective index must be 1 or 2, got " + std::to_string(j));
+  if (j != 1 && j != 2)
+    throw Error("linear least-squares pair: objective index must be 1 or 2, got " + std::to_string(j));
   if (x.size() != A1_.cols()) {
     throw Error("linear least-squares pair: x has " + std::to_string(x.size()) + " entries, expected " +
                 std::to_string(A1_.cols()));

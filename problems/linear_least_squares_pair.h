@@ -47,7 +47,7 @@ class LinearLeastSquaresPair final : public solvers::BiObjectiveProblem {
   Eigen::VectorXd minimizer(int j) const;                     // argmin F_j (A_j full column rank)
   struct EpsilonOptimum {
     Eigen::VectorXd x;
-    double mu = 0.0;      // multiplier of F_2 <= epsilon; +inf when infeasible
+    double mu = 0.0;  // multiplier of F_2 <= epsilon; +inf when infeasible
     bool feasible = true;
   };
   EpsilonOptimum epsilon_constraint_optimum(double epsilon) const;

@@ -23,8 +23,8 @@ PointAlignmentPair::PointAlignmentPair(std::uint64_t seed) {
     q_[j].resize(3, 15);
     for (int i = 0; i < 15; ++i) {
       p_[j].col(i) = Eigen::Vector3d(g(rng), g(rng), g(rng) + 3.0);
-      q_[j].col(i) = (j == 0 ? Ta : Tb) * Eigen::Vector3d(p_[j].col(i)) +
-                     0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      q_[j].col(i) =
+          (j == 0 ? Ta : Tb) * Eigen::Vector3d(p_[j].col(i)) + 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
     }
   }
 }
@@ -49,7 +49,8 @@ solvers::ResidualData PointAlignmentPair::residuals(int j, const Eigen::VectorXd
   return d;
 }
 
-solvers::Linearization PointAlignmentPair::linearize(const Eigen::VectorXd& x, const solvers::LinearizeOptions& options) {
+solvers::Linearization PointAlignmentPair::linearize(const Eigen::VectorXd& x,
+                                                     const solvers::LinearizeOptions& options) {
   return solvers::linearize_from_residuals(*this, x, options);
 }
 

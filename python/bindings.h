@@ -6,8 +6,8 @@
 // never a crash or an error deep inside a solver.
 #include <string>
 
-#include <Eigen/Core>
 #include <pybind11/pybind11.h>
+#include <Eigen/Core>
 
 namespace bivo::python {
 

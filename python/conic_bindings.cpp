@@ -87,39 +87,42 @@ void bind_conic(py::module_& m) {
       .def_readonly("seconds", &IpmResult::seconds)
       .def("__repr__", [](const IpmResult& r) { return "<ConicResult " + solvers::conic::status_text(r) + ">"; });
 
-  m.def("solve_conic", [](const py::object& c, const py::object& G, const py::object& h, const py::dict& cones,
-                          const py::object& A, const py::object& b, double feastol, double abstol, double reltol,
-                          int max_iterations, int equilibration_passes, bool polish, double gaptol, double infinity) {
-    ConicProblem p;
-    p.c = vector_arg(c, "c");
-    const Eigen::Index n = p.c.size();
-    p.h = vector_arg(h, "h");
-    p.G = sparse_arg(G, "G", p.h.size(), n);
-    p.cones = cones_arg(cones, p.h.size());
-    if (A.is_none() != b.is_none()) throw py::value_error("A and b: give both or neither");
-    if (!A.is_none()) {
-      p.b = vector_arg(b, "b");
-      p.A = sparse_arg(A, "A", p.b.size(), n);
-    } else {
-      p.A.resize(0, n);
-      p.b.resize(0);
-    }
-    IpmSettings s;
-    s.feastol = feastol;
-    s.abstol = abstol;
-    s.reltol = reltol;
-    s.max_iterations = max_iterations;
-    s.equilibration_passes = equilibration_passes;
-    s.polish = polish;
-    s.gaptol = gaptol;
-    s.infinity = infinity;
-    py::gil_scoped_release release;
-    return solvers::conic::solve_conic(p, s);
-  }, py::arg("c"), py::arg("G"), py::arg("h"), py::arg("cones"), py::arg("A") = py::none(), py::arg("b") = py::none(),
-     py::arg("feastol") = 1e-8, py::arg("abstol") = 1e-8, py::arg("reltol") = 1e-8, py::arg("max_iterations") = 100,
-     py::arg("equilibration_passes") = 12, py::arg("polish") = true,
-     py::arg("gaptol") = 1e-8, py::arg("infinity") = 1e20,
-     "minimize c.x s.t. A x = b, G x + s = h, s in K = R^l_+ x Q^q1 x ...; G, A dense or scipy.sparse.");
+  m.def(
+      "solve_conic",
+      [](const py::object& c, const py::object& G, const py::object& h, const py::dict& cones, const py::object& A,
+         const py::object& b, double feastol, double abstol, double reltol, int max_iterations,
+         int equilibration_passes, bool polish, double gaptol, double infinity) {
+        ConicProblem p;
+        p.c = vector_arg(c, "c");
+        const Eigen::Index n = p.c.size();
+        p.h = vector_arg(h, "h");
+        p.G = sparse_arg(G, "G", p.h.size(), n);
+        p.cones = cones_arg(cones, p.h.size());
+        if (A.is_none() != b.is_none()) throw py::value_error("A and b: give both or neither");
+        if (!A.is_none()) {
+          p.b = vector_arg(b, "b");
+          p.A = sparse_arg(A, "A", p.b.size(), n);
+        } else {
+          p.A.resize(0, n);
+          p.b.resize(0);
+        }
+        IpmSettings s;
+        s.feastol = feastol;
+        s.abstol = abstol;
+        s.reltol = reltol;
+        s.max_iterations = max_iterations;
+        s.equilibration_passes = equilibration_passes;
+        s.polish = polish;
+        s.gaptol = gaptol;
+        s.infinity = infinity;
+        py::gil_scoped_release release;
+        return solvers::conic::solve_conic(p, s);
+      },
+      py::arg("c"), py::arg("G"), py::arg("h"), py::arg("cones"), py::arg("A") = py::none(), py::arg("b") = py::none(),
+      py::arg("feastol") = 1e-8, py::arg("abstol") = 1e-8, py::arg("reltol") = 1e-8, py::arg("max_iterations") = 100,
+      py::arg("equilibration_passes") = 12, py::arg("polish") = true, py::arg("gaptol") = 1e-8,
+      py::arg("infinity") = 1e20,
+      "minimize c.x s.t. A x = b, G x + s = h, s in K = R^l_+ x Q^q1 x ...; G, A dense or scipy.sparse.");
 }
 
 }  // namespace bivo::python

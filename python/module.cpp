@@ -15,7 +15,9 @@ namespace {
 
 py::array real_array(const py::handle& value, const std::string& name, int ndim) {
   py::array a = py::array::ensure(value);
-  if (!a) throw py::value_error(name + ": expected an array of real numbers, got " + std::string(py::str(py::type::of(value))));
+  if (!a)
+    throw py::value_error(name + ": expected an array of real numbers, got " +
+                          std::string(py::str(py::type::of(value))));
   const char kind = a.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b') {
     throw py::value_error(name + ": expected real numbers, got dtype " + std::string(py::str(a.dtype())));
@@ -78,5 +80,6 @@ PYBIND11_MODULE(bivo, m) {
   bp::bind_metrics(m);
   // `import bivo.metrics` / `from bivo.odometry import track` find the submodules too.
   auto modules = bp::py::module_::import("sys").attr("modules");
-  for (const char* sub : {"problems", "odometry", "metrics"}) modules[(std::string("bivo.") + sub).c_str()] = m.attr(sub);
+  for (const char* sub : {"problems", "odometry", "metrics"})
+    modules[(std::string("bivo.") + sub).c_str()] = m.attr(sub);
 }

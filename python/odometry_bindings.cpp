@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include <nlohmann/json.hpp>
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include "experiments/tracker_config.h"
 #include "experiments/tracker_option_table.h"
@@ -110,10 +110,13 @@ void bind_odometry(py::module_& m) {
   auto om = m.def_submodule("odometry", "RGB-D odometry: frame pairs, per-pair problems, tracking, synthetic data.");
 
   om.def("methods", &method_names, "The odometry methods (odometry/odometry_methods.h).");
-  om.def("tracker_options", [](const py::kwargs& kwargs) {
-    const std::string text = experiments::tracker_options_to_json(options_of(kwargs)).dump();
-    return py::module_::import("json").attr("loads")(text);
-  }, "The complete tracker configuration (a dict) that these keyword arguments give.");
+  om.def(
+      "tracker_options",
+      [](const py::kwargs& kwargs) {
+        const std::string text = experiments::tracker_options_to_json(options_of(kwargs)).dump();
+        return py::module_::import("json").attr("loads")(text);
+      },
+      "The complete tracker configuration (a dict) that these keyword arguments give.");
   om.def("tracker_option_table", &option_table,
          "Every tracker option: JSON key, Python keyword, flag of `bivo run`, valid range, method, help, default.");
 
@@ -145,105 +148,148 @@ void bind_odometry(py::module_& m) {
       .def_readonly("f_d", &PairResult::f_d)
       .def_readonly("seconds", &PairResult::seconds)
       .def_readonly("levels", &PairResult::levels)
-      .def_property_readonly("translation_error", [](const PairResult& p) { return nan_if_absent(p.error, &io::PoseError::translation_m); })
-      .def_property_readonly("rotation_error_deg", [](const PairResult& p) { return nan_if_absent(p.error, &io::PoseError::rotation_deg); })
+      .def_property_readonly("translation_error",
+                             [](const PairResult& p) { return nan_if_absent(p.error, &io::PoseError::translation_m); })
+      .def_property_readonly("rotation_error_deg",
+                             [](const PairResult& p) { return nan_if_absent(p.error, &io::PoseError::rotation_deg); })
       .def_property_readonly("phases", [](const PairResult& p) { return p.profile.all(); });
 
-  py::class_<RgbdOdometryProblem, solvers::BiObjectiveProblem>(om, "RgbdOdometryProblem",
+  py::class_<RgbdOdometryProblem, solvers::BiObjectiveProblem>(
+      om, "RgbdOdometryProblem",
       "One frame pair at one pyramid level: F1 = F_I, F2 = F_D over x = T_21 (odometry/rgbd_problem.h).")
       .def_property_readonly("num_terms", &RgbdOdometryProblem::num_terms)
-      .def("objectives_at", [](RgbdOdometryProblem& p, const py::object& x) {
-        return p.objectives_at(vector_arg(x, "x", 7));
-      }, py::arg("x"), "(F_I, F_D) at x with both weightings estimated at x");
+      .def(
+          "objectives_at",
+          [](RgbdOdometryProblem& p, const py::object& x) { return p.objectives_at(vector_arg(x, "x", 7)); },
+          py::arg("x"), "(F_I, F_D) at x with both weightings estimated at x");
 
   py::class_<PyFramePair>(om, "FramePair", "Two frames of a TUM sequence, preprocessed (odometry/tracker.h).")
       .def_property_readonly("sequence", [](const PyFramePair& p) { return p.pair.sequence; })
       .def_property_readonly("t_reference", [](const PyFramePair& p) { return p.pair.reference_frame.rgb_time; })
       .def_property_readonly("t_current", [](const PyFramePair& p) { return p.pair.current_frame.rgb_time; })
       .def_property_readonly("levels", [](const PyFramePair& p) { return p.pair.reference.pyramid.levels.size(); })
-      .def_property_readonly("groundtruth_T21", [](const PyFramePair& p) { return pose_or_none(p.pair.groundtruth_T21); },
-                             "true motion as a 7-vector, None without ground truth")
-      .def("problem", [](const PyFramePair& p, int level) { return p.pair.problem(level, p.options); },
-           py::arg("level") = 0, py::keep_alive<0, 1>(),
-           "The odometry problem at a pyramid level with this pair's options (it refers into the pair).")
-      .def("lam", [](const PyFramePair& p) { return p.pair.lambda(p.options); },
-           "lambda the options' weighted-sum method would use on this pair")
+      .def_property_readonly(
+          "groundtruth_T21", [](const PyFramePair& p) { return pose_or_none(p.pair.groundtruth_T21); },
+          "true motion as a 7-vector, None without ground truth")
+      .def(
+          "problem", [](const PyFramePair& p, int level) { return p.pair.problem(level, p.options); },
+          py::arg("level") = 0, py::keep_alive<0, 1>(),
+          "The odometry problem at a pyramid level with this pair's options (it refers into the pair).")
+      .def(
+          "lam", [](const PyFramePair& p) { return p.pair.lambda(p.options); },
+          "lambda the options' weighted-sum method would use on this pair")
       .def("epsilon_per_weight", [](const PyFramePair& p) { return p.pair.epsilon_per_weight(p.options); })
-      .def("estimate", [](const PyFramePair& p, const py::object& initial, const py::kwargs& kwargs) {
-        const TrackerOptions o = kwargs.empty() ? p.options : options_of(kwargs);
-        const Eigen::Isometry3d T0 = initial.is_none() ? Eigen::Isometry3d::Identity()
-                                                       : solvers::se3::from_ambient(vector_arg(initial, "initial", 7));
+      .def(
+          "estimate",
+          [](const PyFramePair& p, const py::object& initial, const py::kwargs& kwargs) {
+            const TrackerOptions o = kwargs.empty() ? p.options : options_of(kwargs);
+            const Eigen::Isometry3d T0 = initial.is_none()
+                                             ? Eigen::Isometry3d::Identity()
+                                             : solvers::se3::from_ambient(vector_arg(initial, "initial", 7));
+            py::gil_scoped_release release;
+            PairResult r = estimate_motion(p.pair.reference, p.pair.current, T0, o);
+            if (p.pair.groundtruth_T21) r.error = io::pose_error(r.T_21, *p.pair.groundtruth_T21);
+            return r;
+          },
+          py::arg("initial") = py::none(),
+          "Coarse-to-fine estimate of T_21 from `initial` (identity); keyword arguments replace the pair's options.");
+
+  om.def(
+      "open_sequence",
+      [](const std::string& path, double max_association_dt) {
+        io::SequenceOptions so;
+        so.max_association_dt = max_association_dt;
+        const io::TumSequence seq = io::open_tum_sequence(path, so);
+        py::dict d;
+        d["name"] = seq.name;
+        d["directory"] = seq.directory;
+        d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
+                                   py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
+        const io::Distortion& dist = seq.distortion;
+        d["distortion"] = py::dict(py::arg("k1") = dist.k1, py::arg("k2") = dist.k2, py::arg("p1") = dist.p1,
+                                   py::arg("p2") = dist.p2, py::arg("k3") = dist.k3);
+        Eigen::VectorXd t(seq.frames.size());
+        py::list rgb, depth;
+        for (std::size_t i = 0; i < seq.frames.size(); ++i) {
+          t(static_cast<Eigen::Index>(i)) = seq.frames[i].rgb_time;
+          rgb.append(seq.frames[i].rgb_path);
+          depth.append(seq.frames[i].depth_path);
+        }
+        d["timestamps"] = t, d["rgb"] = rgb, d["depth"] = depth;
+        if (seq.groundtruth) {
+          Eigen::VectorXd gt(seq.groundtruth->size());
+          for (std::size_t i = 0; i < seq.groundtruth->size(); ++i)
+            gt(static_cast<Eigen::Index>(i)) = (*seq.groundtruth)[i].timestamp;
+          d["groundtruth"] = py::make_tuple(gt, poses(*seq.groundtruth));
+        } else {
+          d["groundtruth"] = py::none();
+        }
+        return d;
+      },
+      py::arg("path"), py::arg("max_association_dt") = 0.02,
+      "A TUM sequence's frames (rgb timestamps and file paths), intrinsics, lens distortion (frames are undistorted at "
+      "loading) and ground truth (timestamps, poses) or None.");
+
+  om.def(
+      "load_frame_pair",
+      [](const std::string& path, int reference, int current, const py::kwargs& kwargs) {
+        PyFramePair p;
+        p.options = options_of(kwargs);
         py::gil_scoped_release release;
-        PairResult r = estimate_motion(p.pair.reference, p.pair.current, T0, o);
-        if (p.pair.groundtruth_T21) r.error = io::pose_error(r.T_21, *p.pair.groundtruth_T21);
-        return r;
-      }, py::arg("initial") = py::none(),
-         "Coarse-to-fine estimate of T_21 from `initial` (identity); keyword arguments replace the pair's options.");
-
-  om.def("open_sequence", [](const std::string& path, double max_association_dt) {
-    io::SequenceOptions so;
-    so.max_association_dt = max_association_dt;
-    const io::TumSequence seq = io::open_tum_sequence(path, so);
-    py::dict d;
-    d["name"] = seq.name;
-    d["directory"] = seq.directory;
-    d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
-                               py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
-    const io::Distortion& dist = seq.distortion;
-    d["distortion"] = py::dict(py::arg("k1") = dist.k1, py::arg("k2") = dist.k2, py::arg("p1") = dist.p1,
-                               py::arg("p2") = dist.p2, py::arg("k3") = dist.k3);
-    Eigen::VectorXd t(seq.frames.size());
-    py::list rgb, depth;
-    for (std::size_t i = 0; i < seq.frames.size(); ++i) {
-      t(static_cast<Eigen::Index>(i)) = seq.frames[i].rgb_time;
-      rgb.append(seq.frames[i].rgb_path);
-      depth.append(seq.frames[i].depth_path);
-    }
-    d["timestamps"] = t, d["rgb"] = rgb, d["depth"] = depth;
-    if (seq.groundtruth) {
-      Eigen::VectorXd gt(seq.groundtruth->size());
-      for (std::size_t i = 0; i < seq.groundtruth->size(); ++i) gt(static_cast<Eigen::Index>(i)) = (*seq.groundtruth)[i].timestamp;
-      d["groundtruth"] = py::make_tuple(gt, poses(*seq.groundtruth));
-    } else {
-      d["groundtruth"] = py::none();
-    }
-    return d;
-  }, py::arg("path"), py::arg("max_association_dt") = 0.02,
-     "A TUM sequence's frames (rgb timestamps and file paths), intrinsics, lens distortion (frames are undistorted at loading) and ground truth (timestamps, poses) or None.");
-
-  om.def("load_frame_pair", [](const std::string& path, int reference, int current, const py::kwargs& kwargs) {
-    PyFramePair p;
-    p.options = options_of(kwargs);
-    py::gil_scoped_release release;
-    p.pair = load_frame_pair(path, reference, current, p.options);
-    return p;
-  }, py::arg("path"), py::arg("reference") = 0, py::arg("current") = 1,
-     "Loads frames `reference` and `current` of a TUM sequence; keyword arguments are tracker options.");
+        p.pair = load_frame_pair(path, reference, current, p.options);
+        return p;
+      },
+      py::arg("path"), py::arg("reference") = 0, py::arg("current") = 1,
+      "Loads frames `reference` and `current` of a TUM sequence; keyword arguments are tracker options.");
 
   py::class_<TrackResult>(om, "TrackResult", "A tracked sequence (odometry/tracker.h): arrays per frame and per pair.")
       .def_readonly("sequence", &TrackResult::sequence)
-      .def_property_readonly("timestamps", [](const TrackResult& r) {
-        Eigen::VectorXd t(r.trajectory.size());
-        for (std::size_t i = 0; i < r.trajectory.size(); ++i) t(static_cast<Eigen::Index>(i)) = r.trajectory[i].timestamp;
-        return t;
-      })
-      .def_property_readonly("poses", [](const TrackResult& r) { return poses(r.trajectory); }, "T_wc per frame, N x 7")
+      .def_property_readonly("timestamps",
+                             [](const TrackResult& r) {
+                               Eigen::VectorXd t(r.trajectory.size());
+                               for (std::size_t i = 0; i < r.trajectory.size(); ++i)
+                                 t(static_cast<Eigen::Index>(i)) = r.trajectory[i].timestamp;
+                               return t;
+                             })
+      .def_property_readonly(
+          "poses", [](const TrackResult& r) { return poses(r.trajectory); }, "T_wc per frame, N x 7")
       .def_readonly("pairs", &TrackResult::pairs)
       .def_readonly("invalid_pairs", &TrackResult::invalid_pairs)
-      .def_property_readonly("iterations", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return double(p.iterations); }); })
-      .def_property_readonly("lambdas", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.lambda; }); })
-      .def_property_readonly("epsilons", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.epsilon; }); })
-      .def_property_readonly("mus", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.mu; }); })
-      .def_property_readonly("f_i", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.f_i; }); })
-      .def_property_readonly("f_d", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.f_d; }); })
-      .def_property_readonly("seconds", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.seconds; }); })
-      .def_property_readonly("valid", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return double(p.valid); }).cast<bool>().eval(); })
-      .def_property_readonly("translation_errors", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return nan_if_absent(p.error, &io::PoseError::translation_m); }); },
-                             "per pair |t| of truth^-1 * estimate in metres (NaN without ground truth)")
-      .def_property_readonly("rotation_errors_deg", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return nan_if_absent(p.error, &io::PoseError::rotation_deg); }); })
+      .def_property_readonly(
+          "iterations",
+          [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return double(p.iterations); }); })
+      .def_property_readonly(
+          "lambdas", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.lambda; }); })
+      .def_property_readonly(
+          "epsilons", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.epsilon; }); })
+      .def_property_readonly("mus",
+                             [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.mu; }); })
+      .def_property_readonly("f_i",
+                             [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.f_i; }); })
+      .def_property_readonly("f_d",
+                             [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.f_d; }); })
+      .def_property_readonly(
+          "seconds", [](const TrackResult& r) { return pair_column(r.pairs, [](auto& p) { return p.seconds; }); })
+      .def_property_readonly("valid",
+                             [](const TrackResult& r) {
+                               return pair_column(r.pairs, [](auto& p) { return double(p.valid); }).cast<bool>().eval();
+                             })
+      .def_property_readonly(
+          "translation_errors",
+          [](const TrackResult& r) {
+            return pair_column(r.pairs, [](auto& p) { return nan_if_absent(p.error, &io::PoseError::translation_m); });
+          },
+          "per pair |t| of truth^-1 * estimate in metres (NaN without ground truth)")
+      .def_property_readonly(
+          "rotation_errors_deg",
+          [](const TrackResult& r) {
+            return pair_column(r.pairs, [](auto& p) { return nan_if_absent(p.error, &io::PoseError::rotation_deg); });
+          })
       .def_property_readonly("phases", [](const TrackResult& r) { return r.profile.all(); })
-      .def("write_trajectory", [](const TrackResult& r, const std::string& path) { io::write_tum_trajectory(path, r.trajectory); },
-           py::arg("path"), "TUM trajectory file (what `bivo run` writes as estimate.txt)");
+      .def(
+          "write_trajectory",
+          [](const TrackResult& r, const std::string& path) { io::write_tum_trajectory(path, r.trajectory); },
+          py::arg("path"), "TUM trajectory file (what `bivo run` writes as estimate.txt)");
 
   const auto track = [](const std::string& path, const std::string& method, const std::string& backend,
                         py::kwargs kwargs) {
@@ -253,24 +299,29 @@ void bind_odometry(py::module_& m) {
     py::gil_scoped_release release;
     return track_sequence(path, o);
   };
-  const char* track_doc = "Tracks a TUM sequence with a method and backend ('' = the method's default); other keyword "
-                          "arguments are tracker options (max_frames, levels, policy={...}, problem={...}, ...).";
+  const char* track_doc =
+      "Tracks a TUM sequence with a method and backend ('' = the method's default); other keyword "
+      "arguments are tracker options (max_frames, levels, policy={...}, problem={...}, ...).";
   om.def("track", track, py::arg("path"), py::arg("method") = "weighted", py::arg("backend") = "", track_doc);
   m.def("track", track, py::arg("path"), py::arg("method") = "weighted", py::arg("backend") = "", track_doc);
 
-  om.def("render_synthetic", [](const std::string& output_dir, const std::string& category, int frames,
-                                std::uint64_t seed, bool noise, int threads) {
-    synth::SynthOptions o;
-    o.category = synth::parse_category(category);
-    o.frames = frames;
-    o.seed = seed;
-    o.render.sensor_noise = noise;
-    o.threads = threads;
-    py::gil_scoped_release release;
-    return synth::render_sequence(o, output_dir);
-  }, py::arg("output_dir"), py::arg("category") = "structure_texture_near", py::arg("frames") = 2,
-     py::arg("seed") = 1, py::arg("noise") = true, py::arg("threads") = 0,
-     "Renders a synthetic TUM-format sequence along generated hand-held motion (as `bivo synth`); returns its folder.");
+  om.def(
+      "render_synthetic",
+      [](const std::string& output_dir, const std::string& category, int frames, std::uint64_t seed, bool noise,
+         int threads) {
+        synth::SynthOptions o;
+        o.category = synth::parse_category(category);
+        o.frames = frames;
+        o.seed = seed;
+        o.render.sensor_noise = noise;
+        o.threads = threads;
+        py::gil_scoped_release release;
+        return synth::render_sequence(o, output_dir);
+      },
+      py::arg("output_dir"), py::arg("category") = "structure_texture_near", py::arg("frames") = 2, py::arg("seed") = 1,
+      py::arg("noise") = true, py::arg("threads") = 0,
+      "Renders a synthetic TUM-format sequence along generated hand-held motion (as `bivo synth`); returns its "
+      "folder.");
 }
 
 }  // namespace bivo::python

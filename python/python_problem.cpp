@@ -12,10 +12,12 @@ namespace bivo::python {
 
 PythonProblem::PythonProblem(int dim, const std::string& manifold, std::string name) : name_(std::move(name)) {
   if (manifold == "euclidean") {
-    if (dim < 1) throw py::value_error("bivo.Problem: dim must be >= 1 for a Euclidean problem, got " + std::to_string(dim));
+    if (dim < 1)
+      throw py::value_error("bivo.Problem: dim must be >= 1 for a Euclidean problem, got " + std::to_string(dim));
     manifold_ = std::make_unique<solvers::EuclideanManifold>(dim);
   } else if (manifold == "se3") {
-    if (dim != 6 && dim != 0) throw py::value_error("bivo.Problem: an SE(3) problem has dim 6 (tangent), got " + std::to_string(dim));
+    if (dim != 6 && dim != 0)
+      throw py::value_error("bivo.Problem: an SE(3) problem has dim 6 (tangent), got " + std::to_string(dim));
     manifold_ = std::make_unique<solvers::Se3Manifold>();
   } else {
     throw py::value_error("bivo.Problem: manifold must be 'euclidean' or 'se3', got '" + manifold + "'");
@@ -55,7 +57,8 @@ solvers::ResidualData PythonProblem::call(int j, const Eigen::VectorXd& x, bool 
   if (weights) {
     ++callbacks_;
     d.w = vector_arg(weights(j), where + "weights(" + std::to_string(j) + ")", d.r.size());
-    if ((d.w.array() < 0.0).any()) throw py::value_error(where + "weights(" + std::to_string(j) + ") has negative entries");
+    if ((d.w.array() < 0.0).any())
+      throw py::value_error(where + "weights(" + std::to_string(j) + ") has negative entries");
   } else {
     d.w = Eigen::VectorXd::Ones(d.r.size());
   }
@@ -63,7 +66,8 @@ solvers::ResidualData PythonProblem::call(int j, const Eigen::VectorXd& x, bool 
 }
 
 solvers::ResidualData PythonProblem::residuals(int j, const Eigen::VectorXd& x, bool with_jacobian) {
-  if (j != 1 && j != 2) throw Error("bivo.Problem '" + name_ + "': objective index must be 1 or 2, got " + std::to_string(j));
+  if (j != 1 && j != 2)
+    throw Error("bivo.Problem '" + name_ + "': objective index must be 1 or 2, got " + std::to_string(j));
   py::gil_scoped_acquire gil;
   try {
     return call(j, x, with_jacobian);

@@ -33,7 +33,7 @@ class PythonProblem : public solvers::BiObjectiveProblem {
 
   // Called by the solve wrappers around a C++ solve.
   void clear_pending() { pending_ = nullptr; }
-  void rethrow_pending();  // re-raises the first callback error since clear_pending()
+  void rethrow_pending();                        // re-raises the first callback error since clear_pending()
   long callbacks() const { return callbacks_; }  // Python calls made (residual, jacobian, weights)
 
  private:

@@ -4,16 +4,16 @@
 
 #include <sstream>
 
-#include "solvers/whole/ceres_backend.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/gauss_newton.h"
-#include "solvers/step/levenberg_marquardt.h"
-#include "solvers/whole/ipopt_nlp_backend.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"
 #include "solvers/step/ipopt_qcqp_backend.h"
+#include "solvers/step/levenberg_marquardt.h"
 #include "solvers/step/nlopt_slsqp_backend.h"
+#include "solvers/whole/ceres_backend.h"
+#include "solvers/whole/ipopt_nlp_backend.h"
 // ---- end of conic/NLP backend headers ----
 
 namespace bivo::solvers {
@@ -53,25 +53,26 @@ std::vector<BackendInfo> build_registry() {
       "lm", "Levenberg-Marquardt on the weighted sum, Marquardt-scaled damping, acceptance test"));
   r.push_back(step_backend<ExactQcqpBackend>(
       "exact", "exact one-constraint QCQP step: d(mu) = -(H1 + mu H2)^-1 (b1 + mu b2), Newton on mu"));
-  r.push_back(whole_problem_backend(
-      "ceres", "Ceres trust region on F1 + lambda F2 as one problem over the manifold",
-      [] { return make_ceres_backend(); }));
-  r.push_back(step_backend<IpmFullBackend>(
-      "ipm-full", "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of dimension n+1, active-set Newton polish"));
+  r.push_back(whole_problem_backend("ceres", "Ceres trust region on F1 + lambda F2 as one problem over the manifold",
+                                    [] { return make_ceres_backend(); }));
+  r.push_back(step_backend<IpmFullBackend>("ipm-full",
+                                           "own conic IPM on the paper's SOCP (eq. `SOCP in our method`), cones of "
+                                           "dimension n+1, active-set Newton polish"));
   r.push_back(step_backend<IpmCompressedBackend>(
       "ipm-compressed", "own conic IPM, cones compressed to 7 by QR/Gram factors, floor outside the cone"));
   r.push_back(step_backend<IpmFullBackend>(
       "ipm-full-nopolish", "ipm-full without the active-set Newton polish: the interior-point iterations alone",
       conic::unpolished_step_ipm_settings()));
-  r.push_back(step_backend<IpmCompressedBackend>(
-      "ipm-compressed-nopolish", "ipm-compressed without the active-set Newton polish",
-      conic::unpolished_step_ipm_settings()));
+  r.push_back(step_backend<IpmCompressedBackend>("ipm-compressed-nopolish",
+                                                 "ipm-compressed without the active-set Newton polish",
+                                                 conic::unpolished_step_ipm_settings()));
   r.push_back(step_backend<IpoptQcqpBackend>(
       "ipopt", "Ipopt (MUMPS) on the scaled QCQP step, exact Hessian, bound_relax_factor = 0"));
-  r.push_back(step_backend<NloptSlsqpBackend>(
-      "nlopt", "NLopt SLSQP on the QCQP step with scaled variables and functions"));
+  r.push_back(
+      step_backend<NloptSlsqpBackend>("nlopt", "NLopt SLSQP on the QCQP step with scaled variables and functions"));
   r.push_back(whole_problem_backend(
-      "ipopt-nlp", "Ipopt on min F1 s.t. F2 <= epsilon as one nonlinear problem over the manifold, Gauss-Newton Hessian",
+      "ipopt-nlp",
+      "Ipopt on min F1 s.t. F2 <= epsilon as one nonlinear problem over the manifold, Gauss-Newton Hessian",
       [] { return make_ipopt_nlp_backend(); }));
   // ---- end of conic/NLP backends ----
   return r;
@@ -136,8 +137,6 @@ std::unique_ptr<WholeProblemBackend> make_whole_problem_backend(const std::strin
   return info.make_whole();
 }
 
-std::string default_backend(ScalarizationKind kind) {
-  return kind == ScalarizationKind::kWeightedSum ? "gn" : "exact";
-}
+std::string default_backend(ScalarizationKind kind) { return kind == ScalarizationKind::kWeightedSum ? "gn" : "exact"; }
 
 }  // namespace bivo::solvers

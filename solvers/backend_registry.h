@@ -34,10 +34,10 @@ struct BackendInfo {
   std::function<std::unique_ptr<WholeProblemBackend>()> make_whole;
 };
 
-const std::vector<BackendInfo>& backend_infos();   // registration order
+const std::vector<BackendInfo>& backend_infos();  // registration order
 std::vector<std::string> backend_names();
 bool has_backend(const std::string& name);
-bool is_whole_problem_backend(const std::string& name);  // throws on unknown name
+bool is_whole_problem_backend(const std::string& name);    // throws on unknown name
 const BackendInfo& backend_info(const std::string& name);  // throws on unknown name
 // "  gn  Gauss-Newton ... [weighted sum]\n  ..." for --help texts.
 std::string backend_help();

@@ -18,9 +18,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 bool finite2(const std::array<double, 2>& f) { return std::isfinite(f[0]) && std::isfinite(f[1]); }
 
@@ -69,8 +67,8 @@ void reject_degenerate_end(BiObjectiveProblem& problem, const Eigen::VectorXd& x
 
 }  // namespace
 
-Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend,
-              Eigen::VectorXd& x, const SolverOptions& options, LinearizationCarry* carry) {
+Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend, Eigen::VectorXd& x,
+              const SolverOptions& options, LinearizationCarry* carry) {
   const auto t_start = Clock::now();
   const Manifold& manifold = problem.manifold();
   if (x.size() != manifold.ambient_dim()) {
@@ -189,10 +187,10 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       ScopedPhase phase(&summary.phases, "residuals");  // evaluate() is a residual pass
       return last && !options.keep_final_point ? problem.evaluate_only(at) : problem.evaluate(at);
     };
-    const double scale = last || backend.wants_acceptance_test() || previous_step.size() != step.delta.size()
-                             ? 1.0
-                             : extrapolation_factor(step.delta, previous_step, previous_scale,
-                                                    options.max_step_extrapolation);
+    const double scale =
+        last || backend.wants_acceptance_test() || previous_step.size() != step.delta.size()
+            ? 1.0
+            : extrapolation_factor(step.delta, previous_step, previous_scale, options.max_step_extrapolation);
     Eigen::VectorXd x_new = manifold.retract(x, scale * step.delta);
     std::array<double, 2> f_new = evaluate_at(x_new);
     rec.step_scale = scale;

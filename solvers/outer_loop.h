@@ -41,14 +41,12 @@ struct LinearizationCarry {
 };
 
 // By backend name (solvers/backend_registry.h): step or whole-problem backend.
-Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization,
-              const std::string& backend, Eigen::VectorXd& x, const SolverOptions& options = {},
-              LinearizationCarry* carry = nullptr);
+Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, const std::string& backend,
+              Eigen::VectorXd& x, const SolverOptions& options = {}, LinearizationCarry* carry = nullptr);
 
 // With a backend instance the caller keeps (e.g. reused across pyramid levels / frames).
 // backend.reset() is called at the start.
-Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization,
-              StepBackend& backend, Eigen::VectorXd& x, const SolverOptions& options = {},
-              LinearizationCarry* carry = nullptr);
+Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, StepBackend& backend, Eigen::VectorXd& x,
+              const SolverOptions& options = {}, LinearizationCarry* carry = nullptr);
 
 }  // namespace bivo::solvers

@@ -50,7 +50,8 @@ ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0,
         << options.lambda_max << "]";
     throw Error(msg.str());
   }
-  const std::string backend = options.backend.empty() ? default_backend(ScalarizationKind::kWeightedSum) : options.backend;
+  const std::string backend =
+      options.backend.empty() ? default_backend(ScalarizationKind::kWeightedSum) : options.backend;
   ParetoFront front;
   const Manifold& manifold = problem.manifold();
   Eigen::VectorXd x = x0;

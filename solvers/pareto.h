@@ -37,9 +37,9 @@ struct ParetoPoint {
 };
 
 struct ParetoOptions {
-  int points = 21;  // >= 2
+  int points = 21;                             // >= 2
   double lambda_min = 1e-3, lambda_max = 1e3;  // sweep_lambda only; 0 < min < max
-  std::string backend;  // empty: "gn" for lambda, "exact" for epsilon
+  std::string backend;                         // empty: "gn" for lambda, "exact" for epsilon
   SolverOptions solver;
   // sweep_lambda: where the front moves fast, start a point from the secant prediction
   // x_k (+) (x_k (-) x_{k-1}) of the two previous (converged) points instead of from x_k:

@@ -44,8 +44,8 @@ struct Linearization {
 };
 
 struct LinearizeOptions {
-  bool want_full = false;       // also fill Linearization::full1/full2
-  bool update_weights = true;   // robust problems re-estimate W_j here (IRLS)
+  bool want_full = false;           // also fill Linearization::full1/full2
+  bool update_weights = true;       // robust problems re-estimate W_j here (IRLS)
   PhaseProfile* profile = nullptr;  // where the problem records "residuals", "weights",
                                     // "normal_equations" time; may be null
 };

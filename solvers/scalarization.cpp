@@ -20,13 +20,13 @@ double checked_parameter(const char* what, double value, const char* source) {
 void validate_model(const QuadraticModel& m, const char* which, Eigen::Index n) {
   std::ostringstream msg;
   if (m.b.size() != n || m.H.rows() != n || m.H.cols() != n) {
-    msg << "linearization: model " << which << " has b of size " << m.b.size() << " and H of size "
-        << m.H.rows() << "x" << m.H.cols() << ", expected " << n << " and " << n << "x" << n;
+    msg << "linearization: model " << which << " has b of size " << m.b.size() << " and H of size " << m.H.rows() << "x"
+        << m.H.cols() << ", expected " << n << " and " << n << "x" << n;
     throw Error(msg.str());
   }
   if (!std::isfinite(m.a) || !m.b.allFinite() || !m.H.allFinite()) {
-    msg << "linearization: model " << which << " has non-finite entries (a = " << m.a
-        << ", |b| = " << m.b.norm() << ", |H| = " << m.H.norm() << ")";
+    msg << "linearization: model " << which << " has non-finite entries (a = " << m.a << ", |b| = " << m.b.norm()
+        << ", |H| = " << m.H.norm() << ")";
     throw Error(msg.str());
   }
 }
@@ -95,8 +95,6 @@ Subproblem EpsilonConstraint::make_subproblem(const Linearization& lin) const {
   return sp;
 }
 
-std::unique_ptr<Scalarization> EpsilonConstraint::clone() const {
-  return std::make_unique<EpsilonConstraint>(*this);
-}
+std::unique_ptr<Scalarization> EpsilonConstraint::clone() const { return std::make_unique<EpsilonConstraint>(*this); }
 
 }  // namespace bivo::solvers

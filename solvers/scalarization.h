@@ -48,7 +48,7 @@ class WeightedSum final : public Scalarization {
   std::unique_ptr<Scalarization> clone() const override;
 
   bool has_policy() const { return static_cast<bool>(policy_); }
-  double fixed_lambda() const { return lambda_; }  // meaningful when !has_policy()
+  double fixed_lambda() const { return lambda_; }     // meaningful when !has_policy()
   double lambda_for(const Linearization& lin) const;  // validated value for this step
 
  private:

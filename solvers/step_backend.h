@@ -23,11 +23,11 @@ struct Subproblem {
 };
 
 struct StepResult {
-  Eigen::VectorXd delta;     // tangent step
-  double multiplier = 0.0;   // lambda used (weighted sum) or mu (epsilon-constraint)
-  bool feasible = true;      // false: epsilon < min m_2; delta is then m_2's minimizer
-  int iterations = 0;        // the backend's inner iterations (IPM, Newton on mu, ...)
-  std::string status;        // the backend's own word on how it ended
+  Eigen::VectorXd delta;    // tangent step
+  double multiplier = 0.0;  // lambda used (weighted sum) or mu (epsilon-constraint)
+  bool feasible = true;     // false: epsilon < min m_2; delta is then m_2's minimizer
+  int iterations = 0;       // the backend's inner iterations (IPM, Newton on mu, ...)
+  std::string status;       // the backend's own word on how it ended
 };
 
 class StepBackend {

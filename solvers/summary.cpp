@@ -7,13 +7,20 @@ namespace bivo::solvers {
 
 const char* to_string(TerminationReason reason) {
   switch (reason) {
-    case TerminationReason::kStepTolerance: return "step tolerance";
-    case TerminationReason::kRelativeDecrease: return "relative decrease";
-    case TerminationReason::kMaxIterations: return "iteration budget";
-    case TerminationReason::kNoProgress: return "no progress";
-    case TerminationReason::kNumericalFailure: return "numerical failure";
-    case TerminationReason::kBackendFailure: return "backend failure";
-    case TerminationReason::kDegeneratePoint: return "degenerate point";
+    case TerminationReason::kStepTolerance:
+      return "step tolerance";
+    case TerminationReason::kRelativeDecrease:
+      return "relative decrease";
+    case TerminationReason::kMaxIterations:
+      return "iteration budget";
+    case TerminationReason::kNoProgress:
+      return "no progress";
+    case TerminationReason::kNumericalFailure:
+      return "numerical failure";
+    case TerminationReason::kBackendFailure:
+      return "backend failure";
+    case TerminationReason::kDegeneratePoint:
+      return "degenerate point";
   }
   return "unknown";
 }
@@ -28,12 +35,11 @@ std::string fmt(const char* format, double v) {
 
 std::string Summary::BriefReport() const {
   std::ostringstream s;
-  s << backend << ": " << scalarization << ", " << iterations << " iterations, F1 "
-    << fmt("%.6e", initial_f1) << " -> " << fmt("%.6e", final_f1) << ", F2 " << fmt("%.6e", initial_f2)
-    << " -> " << fmt("%.6e", final_f2) << ", "
+  s << backend << ": " << scalarization << ", " << iterations << " iterations, F1 " << fmt("%.6e", initial_f1) << " -> "
+    << fmt("%.6e", final_f1) << ", F2 " << fmt("%.6e", initial_f2) << " -> " << fmt("%.6e", final_f2) << ", "
     << (kind == ScalarizationKind::kWeightedSum ? "lambda " : "mu ") << fmt("%.6g", multiplier)
-    << (feasible ? "" : ", INFEASIBLE") << ", " << to_string(termination) << ", "
-    << fmt("%.3f", total_seconds * 1e3) << " ms";
+    << (feasible ? "" : ", INFEASIBLE") << ", " << to_string(termination) << ", " << fmt("%.3f", total_seconds * 1e3)
+    << " ms";
   return s.str();
 }
 
@@ -54,8 +60,8 @@ std::string Summary::FullReport() const {
     << "       |step|     inner  acc feas   time(ms)\n";
   for (const auto& r : records) {
     char line[200];
-    std::snprintf(line, sizeof line, "%5d %13.6e %13.6e %13.6e %11.3e%c %5d  %3s %4s %10.3f\n", r.iteration, r.f1,
-                  r.f2, r.multiplier, r.step_norm, r.step_scale > 1.0 ? '*' : ' ', r.inner_iterations,
+    std::snprintf(line, sizeof line, "%5d %13.6e %13.6e %13.6e %11.3e%c %5d  %3s %4s %10.3f\n", r.iteration, r.f1, r.f2,
+                  r.multiplier, r.step_norm, r.step_scale > 1.0 ? '*' : ' ', r.inner_iterations,
                   r.accepted ? "yes" : "no", r.feasible ? "yes" : "no", r.seconds * 1e3);
     s << line;
   }

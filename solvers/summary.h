@@ -50,30 +50,30 @@ struct SolverOptions {
 };
 
 enum class TerminationReason {
-  kStepTolerance,      // ||delta|| < step_tolerance, or step_measure below its tolerance
-  kRelativeDecrease,   // merit changed by less than relative_decrease_tolerance
-  kMaxIterations,      // budget exhausted
-  kNoProgress,         // damped backend rejected too many steps in a row
-  kNumericalFailure,   // NaN/Inf step or objective; x left at the last good value
-  kBackendFailure,     // whole-problem backend (Ceres, Ipopt) reported failure
-  kDegeneratePoint,    // the solve ended where the problem's objectives measure nothing
-                       // (BiObjectiveProblem::degenerate); x reset to the start
+  kStepTolerance,     // ||delta|| < step_tolerance, or step_measure below its tolerance
+  kRelativeDecrease,  // merit changed by less than relative_decrease_tolerance
+  kMaxIterations,     // budget exhausted
+  kNoProgress,        // damped backend rejected too many steps in a row
+  kNumericalFailure,  // NaN/Inf step or objective; x left at the last good value
+  kBackendFailure,    // whole-problem backend (Ceres, Ipopt) reported failure
+  kDegeneratePoint,   // the solve ended where the problem's objectives measure nothing
+                      // (BiObjectiveProblem::degenerate); x reset to the start
 };
 const char* to_string(TerminationReason reason);
 
 struct IterationRecord {
-  int iteration = 0;         // 1-based
+  int iteration = 0;          // 1-based
   double f1 = 0.0, f2 = 0.0;  // objectives AFTER this iteration (at the accepted x)
-  double multiplier = 0.0;   // lambda (weighted sum) or mu (epsilon-constraint)
-  double epsilon = 0.0;      // epsilon of this step (epsilon-constraint only)
-  double step_norm = 0.0;    // of the backend's step, before any extrapolation
-  double step_scale = 1.0;   // the factor the step was taken with (> 1: extrapolated)
-  bool accepted = true;      // false: damped backend rejected the step, x unchanged
-  bool feasible = true;      // the step backend's feasibility flag
-  int inner_iterations = 0;  // the backend's own iterations for this step
-  double seconds = 0.0;      // wall time of the whole iteration
-  Eigen::VectorXd x;         // the iterate after this iteration (ambient form; unchanged
-                             // when the step was rejected): the Python summary's `iterates`
+  double multiplier = 0.0;    // lambda (weighted sum) or mu (epsilon-constraint)
+  double epsilon = 0.0;       // epsilon of this step (epsilon-constraint only)
+  double step_norm = 0.0;     // of the backend's step, before any extrapolation
+  double step_scale = 1.0;    // the factor the step was taken with (> 1: extrapolated)
+  bool accepted = true;       // false: damped backend rejected the step, x unchanged
+  bool feasible = true;       // the step backend's feasibility flag
+  int inner_iterations = 0;   // the backend's own iterations for this step
+  double seconds = 0.0;       // wall time of the whole iteration
+  Eigen::VectorXd x;          // the iterate after this iteration (ambient form; unchanged
+                              // when the step was rejected): the Python summary's `iterates`
 };
 
 struct Summary {
@@ -95,16 +95,15 @@ struct Summary {
                             // slack of a converged nonlinear solve at the default tolerances
 
   TerminationReason termination = TerminationReason::kMaxIterations;
-  std::string message;      // human-readable termination detail
+  std::string message;  // human-readable termination detail
 
-  PhaseProfile phases;      // time per phase of this solve
+  PhaseProfile phases;  // time per phase of this solve
   double total_seconds = 0.0;
   std::vector<IterationRecord> records;
 
   // Converged: stopped on a tolerance (not budget, not failure).
   bool converged() const {
-    return termination == TerminationReason::kStepTolerance ||
-           termination == TerminationReason::kRelativeDecrease;
+    return termination == TerminationReason::kStepTolerance || termination == TerminationReason::kRelativeDecrease;
   }
   std::string BriefReport() const;  // one line
   std::string FullReport() const;   // multi-line, per-iteration table and phase times

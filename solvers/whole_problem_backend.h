@@ -19,8 +19,8 @@ class WholeProblemBackend {
   virtual bool supports(ScalarizationKind kind) const = 0;
   // x: start on entry, solution on exit (ambient form of problem.manifold()). Never leaves
   // NaN in x: on failure x is the last good iterate and Summary::termination says why.
-  virtual Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization,
-                        Eigen::VectorXd& x, const SolverOptions& options) = 0;
+  virtual Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, Eigen::VectorXd& x,
+                        const SolverOptions& options) = 0;
 };
 
 }  // namespace bivo::solvers

@@ -96,7 +96,9 @@ class Counting final : public solvers::BiObjectiveProblem {
     ++evaluations_only;
     return inner_.evaluate(x);
   }
-  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override { return inner_.residuals(j, x, J); }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override {
+    return inner_.residuals(j, x, J);
+  }
   int linearizations = 0, evaluations = 0, evaluations_only = 0;
 
  private:

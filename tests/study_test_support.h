@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-
 namespace bivo::testing {
 
 namespace fs = std::filesystem;
@@ -72,7 +71,8 @@ inline std::vector<std::string> render_test_sequences(const fs::path& dir) {
   for (const char* category : {"structure_texture_near", "nostructure_texture_near"}) {
     const Shell r = shell(bivo_cli() + " synth --category " + category +
                               " --frames 5 --fps 2 --seed 5 --speed 0.03 --angular-speed 2 --supersampling 1"
-                              " --threads 1 --output " + q(dir),
+                              " --threads 1 --output " +
+                              q(dir),
                           dir.parent_path());
     EXPECT_EQ(r.status, 0) << r.err;
     out.push_back((dir / (std::string("rgbd_dataset_freiburg3_synth_") + category)).string());
@@ -84,9 +84,11 @@ inline std::vector<std::string> render_test_sequences(const fs::path& dir) {
 inline std::string study_flags(const std::vector<std::string>& sequences, const fs::path& output) {
   std::string s = "--sequences";
   for (const auto& seq : sequences) s += " " + q(seq);
-  return s + " --methods single weighted --lambda-points 3 --lambda-min 100 --lambda-max 1e5 --eps-points 0"
-             " --max-frames 5 --sweep-frames 5 --levels 4 --finest-level 3 --pareto-level 3 --pareto-points 4"
-             " --no-plots --output " + q(output);
+  return s +
+         " --methods single weighted --lambda-points 3 --lambda-min 100 --lambda-max 1e5 --eps-points 0"
+         " --max-frames 5 --sweep-frames 5 --levels 4 --finest-level 3 --pareto-level 3 --pareto-points 4"
+         " --no-plots --output " +
+         q(output);
 }
 constexpr int kStudyUnits = 4 + 2 * 4 + 2;
 

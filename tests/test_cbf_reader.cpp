@@ -60,21 +60,24 @@ TEST(CbfReader, EqualityNonpositiveAndMax) {
   EXPECT_NEAR(s.r.x[0], 1.0, 1e-7);
   EXPECT_NEAR(s.r.x[1], 1.0, 1e-7);
   // A nonpositive variable: min x0 s.t. x0 in L-, x0 + 3 >= 0: -3.
-  const Solved neg = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nL- 1\nCON\n1 1\nL+ 1\nOBJACOORD\n1\n0 1\n"
-                           "ACOORD\n1\n0 0 1\nBCOORD\n1\n0 3\n");
+  const Solved neg = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nL- 1\nCON\n1 1\nL+ 1\nOBJACOORD\n1\n0 1\n"
+      "ACOORD\n1\n0 0 1\nBCOORD\n1\n0 3\n");
   ASSERT_EQ(neg.r.status, IpmStatus::kOptimal);
   EXPECT_NEAR(neg.objective(), -3.0, 1e-8);
 }
 
 TEST(CbfReader, QuadraticConeInVarAndCon) {
   // min x0 s.t. x in Q^3, x1 = 3, x2 = 4: 5.
-  const Solved var = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nQ 3\nCON\n2 1\nL= 2\nOBJACOORD\n1\n0 1\n"
-                           "ACOORD\n2\n0 1 1\n1 2 1\nBCOORD\n2\n0 -3\n1 -4\n");
+  const Solved var = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nQ 3\nCON\n2 1\nL= 2\nOBJACOORD\n1\n0 1\n"
+      "ACOORD\n2\n0 1 1\n1 2 1\nBCOORD\n2\n0 -3\n1 -4\n");
   ASSERT_EQ(var.r.status, IpmStatus::kOptimal);
   EXPECT_NEAR(var.objective(), 5.0, 1e-8);
   // min t s.t. (t, x1 - 3, x2 - 4) in Q^3 (CON), x1 + x2 = 1: 6/sqrt(2) (distance to the line).
-  const Solved con = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nF 3\nCON\n4 2\nQ 3\nL= 1\nOBJACOORD\n1\n0 1\n"
-                           "ACOORD\n5\n0 0 1\n1 1 1\n2 2 1\n3 1 1\n3 2 1\nBCOORD\n3\n1 -3\n2 -4\n3 -1\n");
+  const Solved con = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nF 3\nCON\n4 2\nQ 3\nL= 1\nOBJACOORD\n1\n0 1\n"
+      "ACOORD\n5\n0 0 1\n1 1 1\n2 2 1\n3 1 1\n3 2 1\nBCOORD\n3\n1 -3\n2 -4\n3 -1\n");
   ASSERT_EQ(con.r.status, IpmStatus::kOptimal);
   EXPECT_NEAR(con.objective(), 6.0 / std::sqrt(2.0), 1e-8);
   EXPECT_NEAR(con.r.x[1] + con.r.x[2], 1.0, 1e-8);
@@ -82,16 +85,18 @@ TEST(CbfReader, QuadraticConeInVarAndCon) {
 
 TEST(CbfReader, RotatedQuadraticConeInVarAndCon) {
   // min x0 + x1 s.t. (x0, x1, x2) in QR^3 (2 x0 x1 >= x2^2), x2 = 2: x0 = x1 = sqrt 2, 2 sqrt 2.
-  const Solved var = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nQR 3\nCON\n1 1\nL= 1\nOBJACOORD\n2\n0 1\n1 1\n"
-                           "ACOORD\n1\n0 2 1\nBCOORD\n1\n0 -2\n");
+  const Solved var = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n3 1\nQR 3\nCON\n1 1\nL= 1\nOBJACOORD\n2\n0 1\n1 1\n"
+      "ACOORD\n1\n0 2 1\nBCOORD\n1\n0 -2\n");
   ASSERT_EQ(var.r.status, IpmStatus::kOptimal);
   EXPECT_NEAR(var.objective(), 2.0 * std::sqrt(2.0), 1e-8);
   EXPECT_NEAR(var.r.x[0], std::sqrt(2.0), 1e-6);
   EXPECT_NEAR(var.r.x[1], std::sqrt(2.0), 1e-6);
   // The same cone on constraint rows (u, v, w) = (x0, 2 x1, 2): 4 x0 x1 >= 4, min x0 + 2 x1 ->
   // x0 = sqrt 2, x1 = 1/sqrt 2, objective 2 sqrt 2; the asymmetric 2 checks the row map.
-  const Solved con = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n2 1\nF 2\nCON\n3 1\nQR 3\nOBJACOORD\n2\n0 1\n1 2\n"
-                           "ACOORD\n2\n0 0 1\n1 1 2\nBCOORD\n1\n2 2\n");
+  const Solved con = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n2 1\nF 2\nCON\n3 1\nQR 3\nOBJACOORD\n2\n0 1\n1 2\n"
+      "ACOORD\n2\n0 0 1\n1 1 2\nBCOORD\n1\n2 2\n");
   ASSERT_EQ(con.r.status, IpmStatus::kOptimal);
   EXPECT_NEAR(con.objective(), 2.0 * std::sqrt(2.0), 1e-8);
   EXPECT_NEAR(con.r.x[0], std::sqrt(2.0), 1e-6);
@@ -100,16 +105,18 @@ TEST(CbfReader, RotatedQuadraticConeInVarAndCon) {
 
 TEST(CbfReader, InfeasibleAndUnboundedAreCertified) {
   // x0 - 1 >= 0 and x0 <= 0: primal infeasible; certificate h^T z + b^T y = -1, G^T z + A^T y = 0, z >= 0.
-  const Solved inf = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nF 1\nCON\n2 2\nL+ 1\nL- 1\nOBJACOORD\n1\n0 1\n"
-                           "ACOORD\n2\n0 0 1\n1 0 1\nBCOORD\n1\n0 -1\n");
+  const Solved inf = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nF 1\nCON\n2 2\nL+ 1\nL- 1\nOBJACOORD\n1\n0 1\n"
+      "ACOORD\n2\n0 0 1\n1 0 1\nBCOORD\n1\n0 -1\n");
   ASSERT_EQ(inf.r.status, IpmStatus::kPrimalInfeasible);
   const auto& q = inf.p.problem;
   EXPECT_NEAR(q.h.dot(inf.r.z), -1.0, 1e-8);
   EXPECT_LT((q.G.transpose() * inf.r.z).norm(), 1e-8);
   EXPECT_GE(inf.r.z.minCoeff(), -1e-12);
   // min x0 s.t. x0 <= 1 (x0 - 1 in L-), free: unbounded; certificate c^T x = -1, G x + s = 0, s >= 0.
-  const Solved unb = solve("VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nF 1\nCON\n1 1\nL- 1\nOBJACOORD\n1\n0 1\n"
-                           "ACOORD\n1\n0 0 1\nBCOORD\n1\n0 -1\n");
+  const Solved unb = solve(
+      "VER\n4\nOBJSENSE\nMIN\nVAR\n1 1\nF 1\nCON\n1 1\nL- 1\nOBJACOORD\n1\n0 1\n"
+      "ACOORD\n1\n0 0 1\nBCOORD\n1\n0 -1\n");
   ASSERT_EQ(unb.r.status, IpmStatus::kDualInfeasible);
   const auto& u = unb.p.problem;
   EXPECT_NEAR(u.c.dot(unb.r.x), -1.0, 1e-8);

@@ -23,8 +23,8 @@ struct CliResult {
 // Runs the bivo binary with `args` (shell-quoted by the caller), capturing stdout/stderr.
 CliResult run_bivo(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + BIVO_BINARY + "' " + args + " >'" + out.string() + "' 2>'" +
-                          err.string() + "'";
+  const std::string cmd =
+      std::string("'") + BIVO_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
   const int raw = std::system(cmd.c_str());
   CliResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -88,9 +88,8 @@ TEST_F(CliEval, PrintsExactlyOneLineWithTheOracleValues) {
 
 TEST_F(CliEval, JsonFlagAndOutputFile) {
   write_pair();
-  const CliResult r = run_bivo("eval --json --output " + q(dir_ / "detail.json") + " " + q(dir_ / "gt.txt") + " " +
-                             q(dir_ / "est.txt"),
-                         dir_);
+  const CliResult r = run_bivo(
+      "eval --json --output " + q(dir_ / "detail.json") + " " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"rpe_trans\":0.05"), std::string::npos) << r.out;
   ASSERT_TRUE(fs::exists(dir_ / "detail.json"));
@@ -129,7 +128,8 @@ TEST_F(CliEval, MissingFileFails) {
 TEST_F(CliEval, UnwritableOutputFailsAndLeavesNothing) {
   write_pair();
   const fs::path target = dir_ / "no_such_dir" / "detail.json";
-  const CliResult r = run_bivo("eval --output " + q(target) + " " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
+  const CliResult r =
+      run_bivo("eval --output " + q(target) + " " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("detail.json"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(target));

@@ -13,8 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/synth/sequence.h"
 #include "odometry/io/trajectory.h"
+#include "odometry/synth/sequence.h"
 
 namespace fs = std::filesystem;
 using namespace bivo;
@@ -81,12 +81,12 @@ std::string CliRun::sequence_;
 }  // namespace
 
 TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
-  const CliResult r = run_bivo("run " + seq() + " --method single --output " + q(dir_ / "traj.txt") + " --log " +
-                                   q(dir_ / "pairs.csv"),
-                               dir_);
+  const CliResult r = run_bivo(
+      "run " + seq() + " --method single --output " + q(dir_ / "traj.txt") + " --log " + q(dir_ / "pairs.csv"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   // The last line of stdout is the run line; no progress bar on a non-terminal stderr.
-  const std::regex line(R"((^|\n)frames=4 median_ms=[0-9.]+ mean_ms=[0-9.]+ median_cpu_ms=[0-9.]+ mean_cpu_ms=[0-9.]+ failures=0\n$)");
+  const std::regex line(
+      R"((^|\n)frames=4 median_ms=[0-9.]+ mean_ms=[0-9.]+ median_cpu_ms=[0-9.]+ mean_cpu_ms=[0-9.]+ failures=0\n$)");
   EXPECT_TRUE(std::regex_search(r.out, line)) << r.out;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
 
@@ -109,8 +109,8 @@ TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
 }
 
 TEST_F(CliRun, StartFrameAndMaxFramesSelectTheWindow) {
-  const CliResult r =
-      run_bivo("run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"), dir_);
+  const CliResult r = run_bivo(
+      "run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("frames=2 "), std::string::npos) << r.out;
   EXPECT_EQ(odometry::io::read_tum_trajectory((dir_ / "t.txt").string()).size(), 2u);
@@ -125,7 +125,8 @@ TEST_F(CliRun, UnknownMethodListsTheValidOnes) {
 }
 
 TEST_F(CliRun, UnknownBackendListsTheValidOnes) {
-  const CliResult r = run_bivo("run " + seq() + " --method bounded --backend cvxpy --output " + q(dir_ / "t.txt"), dir_);
+  const CliResult r =
+      run_bivo("run " + seq() + " --method bounded --backend cvxpy --output " + q(dir_ / "t.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("cvxpy"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("exact"), std::string::npos) << r.err;
@@ -176,9 +177,8 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
       " --initial-guess identity --max-iterations 9 --step-tolerance 3e-4 --decrease-tolerance 2e-3"
       " --min-depth 0.2 --max-depth 8 --occlusion-margin 0.05 --max-dt 0.015 --intrinsics '535.4 539.2 320.1 247.6'"
       " --distortion '0.05 -0.1 0.001 0.002 0.01' --first-frame 1 --max-frames 3";
-  const CliResult a = run_bivo("run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " +
-                                   q(dir_ / "saved.json"),
-                               dir_);
+  const CliResult a = run_bivo(
+      "run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " + q(dir_ / "saved.json"), dir_);
   ASSERT_EQ(a.status, 0) << a.err;
   const std::string config = slurp(dir_ / "a.config.json");
   ASSERT_FALSE(config.empty());

@@ -120,7 +120,7 @@ TEST_F(StudyOutcomes, ASweepWithABadBackendExitsOne) {
 }
 
 TEST_F(StudyOutcomes, UsageErrorsExitTwoRuntimeErrorsOne) {
-  EXPECT_EQ(bivo("table --methods single").status, 2);                   // --sequences missing
+  EXPECT_EQ(bivo("table --methods single").status, 2);  // --sequences missing
   EXPECT_EQ(bivo("run " + q(sequences_[0]) + " --method single --no-such-flag").status, 2);
   EXPECT_EQ(bivo("no-such-command").status, 2);
   EXPECT_EQ(bivo("table --sequences a b --output " + q(dir_ / "o") + " --first-frame x").status, 2);

@@ -41,8 +41,9 @@ double objective(const std::string& out) {
 
 TEST(ConicCli, SolvesDenseAndTripletFormats) {
   // min -x1 - x2 s.t. x1 + 2 x2 <= 4, 3 x1 + x2 <= 6, x >= 0: optimum -2.8.
-  const std::string dense = write("lp_dense.json",
-      R"({"c": [-1, -1], "G": [[1, 2], [3, 1], [-1, 0], [0, -1]], "h": [4, 6, 0, 0], "cones": {"l": 4}})");
+  const std::string dense =
+      write("lp_dense.json",
+            R"({"c": [-1, -1], "G": [[1, 2], [3, 1], [-1, 0], [0, -1]], "h": [4, 6, 0, 0], "cones": {"l": 4}})");
   CliRun r = run(dense + " --verbose");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("status: optimal"), std::string::npos) << r.out;
@@ -50,7 +51,7 @@ TEST(ConicCli, SolvesDenseAndTripletFormats) {
   EXPECT_NE(r.out.find("pcost"), std::string::npos) << r.out;
   // min t s.t. ||(x1 - 3, x2 - 4)|| <= t: distance 0 at (3, 4); plus x1 + x2 = 1 -> 6/sqrt(2).
   const std::string soc = write("soc_triplets.json",
-      R"({"c": [1, 0, 0], "A": [[0, 1, 1]], "b": [1],
+                                R"({"c": [1, 0, 0], "A": [[0, 1, 1]], "b": [1],
           "G": {"rows": 3, "cols": 3, "triplets": [[0, 0, -1], [1, 1, -1], [2, 2, -1]]},
           "h": [0, -3, -4], "cones": {"q": [3]}})");
   r = run(soc);
@@ -91,9 +92,10 @@ TEST(ConicCli, BadInputIsAnErrorNamingTheFault) {
 
 TEST(ConicCli, ReadsCbfAndPrintsThePhaseSplit) {
   // CBF (by extension): max x0 + x1 s.t. x0 - x1 = 0, x0 + x1 - 2 <= 0, plus the constant 1: 3.
-  const std::string cbf = write("lp.cbf",
-      "VER\n4\nOBJSENSE\nMAX\nVAR\n2 1\nF 2\nCON\n2 2\nL= 1\nL- 1\nOBJACOORD\n2\n0 1\n1 1\nOBJBCOORD\n1\n"
-      "ACOORD\n4\n0 0 1\n0 1 -1\n1 0 1\n1 1 1\nBCOORD\n1\n1 -2\n");
+  const std::string cbf =
+      write("lp.cbf",
+            "VER\n4\nOBJSENSE\nMAX\nVAR\n2 1\nF 2\nCON\n2 2\nL= 1\nL- 1\nOBJACOORD\n2\n0 1\n1 1\nOBJBCOORD\n1\n"
+            "ACOORD\n4\n0 0 1\n0 1 -1\n1 0 1\n1 1 1\nBCOORD\n1\n1 -2\n");
   CliRun r = run(cbf + " --verbose");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("status: optimal"), std::string::npos) << r.out;

@@ -227,8 +227,8 @@ TEST(ConicExitCertificates, QcqpStepForms) {
     for (const double fraction : {0.3, 2.0}) {
       const SyntheticStep step = make_synthetic_step(400 * static_cast<int>(seed), seed, fraction);
       const ConicProblem full = full_qcqp_socp(*step.lin.full1, *step.lin.full2, step.epsilon);
-      const ConicProblem compressed = compressed_qcqp_socp(factor_from_model(step.lin.f1),
-                                                           factor_from_model(step.lin.f2), step.epsilon);
+      const ConicProblem compressed =
+          compressed_qcqp_socp(factor_from_model(step.lin.f1), factor_from_model(step.lin.f2), step.epsilon);
       for (const IpmSettings& st : {step_ipm_settings(), unpolished_step_ipm_settings()}) {
         const std::string what = "seed " + std::to_string(seed) + (st.polish ? " polished" : " plain");
         check_exit(full, solve_conic(full, st), "full form, " + what, t);

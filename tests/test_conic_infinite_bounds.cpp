@@ -43,7 +43,8 @@ IpmResult solve(const ConicProblem& p, bool polish) {
 // The status must be a clean optimum at the known point, or (without polishing only, where
 // rounding next to a 1e19 row can stall the interior point) an optimum flagged as reduced
 // accuracy that is still right to 1e-7. "optimal" at a wrong point fails either way.
-void expect_solved(const IpmResult& r, double objective, const Eigen::VectorXd& x, bool polish, const std::string& what) {
+void expect_solved(const IpmResult& r, double objective, const Eigen::VectorXd& x, bool polish,
+                   const std::string& what) {
   ASSERT_EQ(r.status, IpmStatus::kOptimal) << what << ": " << status_text(r);
   if (polish) {
     EXPECT_FALSE(r.reduced_accuracy) << what << ": " << status_text(r);
@@ -78,9 +79,9 @@ TEST(ConicInfiniteBounds, OneVariableLowerBoundIsActive) {
       expect_solved(r, 2.0, Eigen::VectorXd::Constant(1, 2.0), polish, name("min x, x >= 2", B, polish));
       EXPECT_EQ(r.infinite_rows, 1);
       ASSERT_EQ(r.z.size(), 2);
-      EXPECT_EQ(r.z[1], 0.0);                          // the absent bound's multiplier
-      EXPECT_NEAR(r.z[0], 1.0, 1e-8);                  // the active one's: c = z0
-      EXPECT_EQ(r.s[1], B - r.x[0]);                   // its slack, h - G x
+      EXPECT_EQ(r.z[1], 0.0);          // the absent bound's multiplier
+      EXPECT_NEAR(r.z[0], 1.0, 1e-8);  // the active one's: c = z0
+      EXPECT_EQ(r.s[1], B - r.x[0]);   // its slack, h - G x
     }
   }
 }
@@ -188,8 +189,8 @@ TEST(ConicInfiniteBounds, SocpWholeConeWithAnInfiniteHead) {
 // What is NOT an absent bound stays: a cone with a huge tail entry, a row with h <= -B.
 TEST(ConicInfiniteBounds, HugeNegativeRowsAndConeTailsAreKept) {
   // max x s.t. x <= -1e20: the optimum is x = -1e20 itself.
-  const IpmResult r = solve(make(-Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1),
-                                 Eigen::VectorXd::Constant(1, -1e20), {1, {}}), true);
+  const IpmResult r = solve(
+      make(-Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Constant(1, -1e20), {1, {}}), true);
   EXPECT_EQ(r.infinite_rows, 0);
   if (r.status == IpmStatus::kOptimal) {
     EXPECT_NEAR(r.x[0], -1e20, 1e12) << status_text(r);

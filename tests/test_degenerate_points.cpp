@@ -16,8 +16,8 @@
 #include "odometry/io/pose_error.h"
 #include "odometry/tracker.h"
 #include "solvers/backend_registry.h"
-#include "solvers/outer_loop.h"
 #include "solvers/geometry/se3.h"
+#include "solvers/outer_loop.h"
 
 using namespace bivo;
 
@@ -69,9 +69,8 @@ TEST(DegeneratePoints, NoBackendConvergesWhereNothingIsMeasured) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(1);
       // F_2(0) = 675: the bound 300 asks for x > 5 (the valid part of the window) and is met
       // for free outside it.
-      const solvers::Summary s =
-          weighted ? solvers::solve(problem, solvers::WeightedSum(0.5), info.name, x)
-                   : solvers::solve(problem, solvers::EpsilonConstraint(300.0), info.name, x);
+      const solvers::Summary s = weighted ? solvers::solve(problem, solvers::WeightedSum(0.5), info.name, x)
+                                          : solvers::solve(problem, solvers::EpsilonConstraint(300.0), info.name, x);
       const std::string what = info.name + (weighted ? " (weighted sum)" : " (epsilon)");
       std::printf("[ window ] %-22s x = %9.4f  %s: %s\n", what.c_str(), x[0], solvers::to_string(s.termination),
                   s.message.c_str());
@@ -95,7 +94,9 @@ TEST(DegeneratePoints, DefaultIsNeverDegenerate) {
       return solvers::linearize_from_residuals(*this, x, o);
     }
     std::array<double, 2> evaluate(const Eigen::VectorXd& x) override { return {x.squaredNorm(), 0.0}; }
-    solvers::ResidualData residuals(int, const Eigen::VectorXd& x, bool) override { return {x, {}, Eigen::VectorXd::Ones(1)}; }
+    solvers::ResidualData residuals(int, const Eigen::VectorXd& x, bool) override {
+      return {x, {}, Eigen::VectorXd::Ones(1)};
+    }
     solvers::EuclideanManifold m_{1};
   } q;
   EXPECT_FALSE(q.degenerate(Eigen::VectorXd::Constant(1, 1e300)));
@@ -105,8 +106,8 @@ TEST(DegeneratePoints, DefaultIsNeverDegenerate) {
 // its scalarization's method (bounded: epsilon-constraint; weighted: weighted sum), checked
 // against `exact` / `gn` on the same pair: within 2.5 cm and 1.5 deg of it (ipopt-nlp stops on
 // the tracker's budget of 20 Ipopt iterations per level, 1.2 cm off on 1->2; the wrong poses
-// below were 26 cm and 2.2 m off), or the pair (or a level) reported failed. Each starts from the previous pair's ground-truth motion, as the
-// tracker's constant-velocity prior would; in a 40-frame run ipopt-nlp's poses of the pairs
+// below were 26 cm and 2.2 m off), or the pair (or a level) reported failed. Each starts from the previous pair's
+// ground-truth motion, as the tracker's constant-velocity prior would; in a 40-frame run ipopt-nlp's poses of the pairs
 // 33->34 and 38->39 were 0.26 m and 2.2 m off with 45 % and 22 % of the terms still valid.
 TEST(DegeneratePoints, EveryBackendOnRealFramePairs) {
   if (!std::filesystem::exists(kSequence)) GTEST_SKIP() << "shared data absent: " << kSequence;
@@ -120,14 +121,12 @@ TEST(DegeneratePoints, EveryBackendOnRealFramePairs) {
     for (const bool weighted : {true, false}) {
       o.method = weighted ? "weighted" : "bounded";
       o.backend = weighted ? "gn" : "exact";
-      const odometry::PairResult reference =
-          odometry::estimate_motion(pair.reference, pair.current, prior, o);
+      const odometry::PairResult reference = odometry::estimate_motion(pair.reference, pair.current, prior, o);
       ASSERT_TRUE(reference.valid) << o.backend << " on " << first;
       for (const solvers::BackendInfo& info : solvers::backend_infos()) {
         if (weighted ? !info.weighted_sum : !info.epsilon_constraint) continue;
         o.backend = info.name;
-        const odometry::PairResult r =
-            odometry::estimate_motion(pair.reference, pair.current, prior, o);
+        const odometry::PairResult r = odometry::estimate_motion(pair.reference, pair.current, prior, o);
         const odometry::io::PoseError e = odometry::io::pose_error(r.T_21, reference.T_21);
         bool skipped = false;
         for (const odometry::LevelResult& l : r.levels) skipped = skipped || l.skipped;

@@ -41,7 +41,8 @@ TEST(DepthTrust, StatisticIsTheNewtonStepLengthInThePhotometricMetric) {
   Eigen::VectorXd h(6), c(6);
   h << 1, 2, 4, 8, 16, 32;
   c << 1, -2, 3, -4, 5, -6;
-  const Eigen::MatrixXd Q = Eigen::MatrixXd(Eigen::HouseholderQR<Eigen::MatrixXd>(Eigen::MatrixXd::Random(6, 6)).householderQ());
+  const Eigen::MatrixXd Q =
+      Eigen::MatrixXd(Eigen::HouseholderQR<Eigen::MatrixXd>(Eigen::MatrixXd::Random(6, 6)).householderQ());
   const Eigen::MatrixXd H = Q * h.asDiagonal() * Q.transpose();
   const Eigen::VectorXd b = Q * c;
   const double sigma = 2.0;
@@ -96,8 +97,8 @@ RenderedPair render_pair(const fs::path& out) {
   p.sequence = io::open_tum_sequence(dir);
   p.reference = io::load_rgbd_image(p.sequence.frames[1]);
   p.current = io::load_rgbd_image(p.sequence.frames[2], p.reference.width, p.reference.height);
-  p.truth = *io::groundtruth_motion(*p.sequence.groundtruth, p.sequence.frames[1].rgb_time,
-                                    p.sequence.frames[2].rgb_time);
+  p.truth =
+      *io::groundtruth_motion(*p.sequence.groundtruth, p.sequence.frames[1].rgb_time, p.sequence.frames[2].rgb_time);
   return p;
 }
 
@@ -141,7 +142,8 @@ TEST(DepthTrust, FiresOnBiasedDepthAndNotOnExactDepth) {
   const io::RgbdImage bent_image = warped(p.current, radial);
   const PairResult scaled = estimate(p, scaled_image, "robust", threshold),
                    bent = estimate(p, bent_image, "robust", threshold);
-  const PairResult single_scaled = estimate(p, scaled_image, "single"), joint_scaled = estimate(p, scaled_image, "joint");
+  const PairResult single_scaled = estimate(p, scaled_image, "single"),
+                   joint_scaled = estimate(p, scaled_image, "joint");
   const auto err = [&](const PairResult& r) { return io::pose_error(r.T_21, p.truth); };
   // The statistic at every level, with the fallback never taken (threshold beyond reach).
   std::vector<std::vector<double>> statistics;

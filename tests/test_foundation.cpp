@@ -85,10 +85,11 @@ TEST(Trajectory, MalformedLineNamesFileAndLine) {
 TEST(AtomicFile, FailedWriteLeavesNoFile) {
   const std::string path = ::testing::TempDir() + "/atomic.txt";
   std::remove(path.c_str());
-  EXPECT_THROW(odometry::io::write_file_atomically(path, [](std::ostream& o) {
-                 o << "half";
-                 throw Error("boom");
-               }),
+  EXPECT_THROW(odometry::io::write_file_atomically(path,
+                                                   [](std::ostream& o) {
+                                                     o << "half";
+                                                     throw Error("boom");
+                                                   }),
                Error);
   EXPECT_FALSE(std::ifstream(path).good());
   EXPECT_THROW(odometry::io::write_file_atomically("/nonexistent-dir/x.txt", [](std::ostream&) {}), Error);

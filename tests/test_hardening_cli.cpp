@@ -104,8 +104,8 @@ TEST_F(HardeningCli, ConicConesQ2147483647Twice) {
 
 // Item 2.
 TEST_F(HardeningCli, RunFirstFrame2147483647) {
-  const BivoRun r = bivo("run " + q(sequence_) + " --method single --first-frame 2147483647 --output " +
-                         q(dir_ / "t.txt"));
+  const BivoRun r =
+      bivo("run " + q(sequence_) + " --method single --first-frame 2147483647 --output " + q(dir_ / "t.txt"));
   expect_clear_error(r, "first frame 2147483647 leaves fewer than 2");
   expect_only({});
 }
@@ -270,16 +270,16 @@ TEST_F(HardeningCli, SynthFlagsOutOfRange) {
 
 // Item 11: the outputs of a run are one set, disjoint from its inputs.
 TEST_F(HardeningCli, RunOutputXLogX) {
-  const BivoRun r = bivo("run " + q(sequence_) + " --method single --output " + q(dir_ / "x") + " --log " +
-                         q(dir_ / "x"));
+  const BivoRun r =
+      bivo("run " + q(sequence_) + " --method single --output " + q(dir_ / "x") + " --log " + q(dir_ / "x"));
   expect_clear_error(r, "--log '" + (dir_ / "x").string() + "' and --output");
   expect_only({});
 }
 
 TEST_F(HardeningCli, RunLogIsAFolder) {
   fs::create_directories(dir_ / "logs");
-  const BivoRun r = bivo("run " + q(sequence_) + " --method single --output " + q(dir_ / "t.txt") + " --log " +
-                         q(dir_ / "logs"));
+  const BivoRun r =
+      bivo("run " + q(sequence_) + " --method single --output " + q(dir_ / "t.txt") + " --log " + q(dir_ / "logs"));
   expect_clear_error(r, "--log: refusing to write");
   expect_only({"logs"});  // no trajectory left behind
 }
@@ -313,8 +313,8 @@ TEST_F(HardeningCli, ParetoPair2147483647AndEvery2147483647) {
   expect_clear_error(bivo("pareto " + q(sequence_) + " --pair 2147483647 --no-plots --output " + q(dir_ / "p")),
                      "--pair 2147483647: sequence");
   EXPECT_FALSE(fs::exists(dir_ / "p"));
-  const BivoRun r = bivo("pareto " + q(sequence_) + " --every 2147483647 --no-plots --points 2 --levels 2 --output " +
-                         q(dir_ / "e"));
+  const BivoRun r =
+      bivo("pareto " + q(sequence_) + " --every 2147483647 --no-plots --points 2 --levels 2 --output " + q(dir_ / "e"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "e" / "pareto_pair0.json"));
   EXPECT_FALSE(fs::exists(dir_ / "e" / "pareto_pair2147483647.json"));

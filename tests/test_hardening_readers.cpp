@@ -97,12 +97,12 @@ TEST(HardeningConic, NestedArrays200000DeepInANumberField) {
 
 // Item 9: JSON numbers converted to int without range checks (undefined behaviour).
 TEST(HardeningConic, RowsMinus2147483649AndIndex1e300AndConeL3e9) {
-  const std::string rows = write_text(
-      "rows.json", R"({"c":[1,1],"G":{"rows":-2147483649,"cols":2,"triplets":[]},"h":[],"cones":{}})");
+  const std::string rows =
+      write_text("rows.json", R"({"c":[1,1],"G":{"rows":-2147483649,"cols":2,"triplets":[]},"h":[],"cones":{}})");
   std::string msg = error_of([&] { experiments::read_conic_json(rows); });
   EXPECT_TRUE(contains(msg, "G.rows must be an integer in 0..2147483647")) << msg;
-  const std::string index = write_text(
-      "index.json", R"({"c":[1],"G":{"rows":1,"cols":1,"triplets":[[1e300,0,1]]},"h":[1],"cones":{"l":1}})");
+  const std::string index =
+      write_text("index.json", R"({"c":[1],"G":{"rows":1,"cols":1,"triplets":[[1e300,0,1]]},"h":[1],"cones":{"l":1}})");
   msg = error_of([&] { experiments::read_conic_json(index); });
   EXPECT_TRUE(contains(msg, "triplets[0][0] must be an integer in 0..2147483647, got 1e+300")) << msg;
   const std::string cone = write_text("l.json", R"({"c":[1],"G":[[1]],"h":[1],"cones":{"l":3e9}})");
@@ -270,9 +270,8 @@ TEST(HardeningOutputs, SymlinkFifoAndFolderAreNeverReplaced) {
   fs::create_symlink(target, link);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   for (const std::string& path : {link, fifo, folder}) {
-    const std::string msg = error_of([&] {
-      odometry::io::write_file_atomically(path, [](std::ostream& o) { o << "new\n"; });
-    });
+    const std::string msg =
+        error_of([&] { odometry::io::write_file_atomically(path, [](std::ostream& o) { o << "new\n"; }); });
     EXPECT_TRUE(contains(msg, "refusing to write '" + path + "'")) << msg;
   }
   EXPECT_TRUE(fs::is_symlink(link));

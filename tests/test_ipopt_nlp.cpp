@@ -7,8 +7,8 @@
 #include <limits>
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "tests/test_support.h"
 
@@ -17,8 +17,8 @@
 #include "problems/point_alignment_pair.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
-#include "solvers/outer_loop.h"
 #include "solvers/geometry/se3.h"
+#include "solvers/outer_loop.h"
 
 using namespace bivo;
 using bivo::problems::ExponentialDecayPair;
@@ -66,7 +66,7 @@ TEST(IpoptNlp, MatchesTheClosedFormEpsilonOptimumOnLinearPairs) {
       std::printf("linear draw %d frac %.1f: |x - x*| rel %.2e, mu rel %.2e, rounds %zu, Ipopt its %d\n", draw, frac,
                   rel_err(x, oracle.x), std::abs(s.multiplier - oracle.mu) / oracle.mu, s.records.size(), s.iterations);
       EXPECT_NEAR(s.multiplier, oracle.mu, 1e-5 * oracle.mu);
-      EXPECT_LE(s.final_f2, eps * (1 + 1e-9));  // bound_relax_factor = 0
+      EXPECT_LE(s.final_f2, eps * (1 + 1e-9));   // bound_relax_factor = 0
       EXPECT_NEAR(s.final_f2, eps, 1e-6 * eps);  // the constraint is active for eps < F2(argmin F1)
     }
   }

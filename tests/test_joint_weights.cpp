@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "odometry/joint_weights.h"
 
@@ -23,7 +23,8 @@ TEST(JointWeights, HandSolvedSymmetricExample) {
   WeightOptions o;
   o.max_scale_iterations = 200;
   o.scale_tolerance = 1e-9;
-  const JointScale s = compute_joint_weights(ri.data(), rd.data(), valid.data(), valid.data(), 4, o, wi.data(), wd.data());
+  const JointScale s =
+      compute_joint_weights(ri.data(), rd.data(), valid.data(), valid.data(), 4, o, wi.data(), wd.data());
   EXPECT_NEAR(s.s_ii, 8.0, 8.0 * 1e-5);
   EXPECT_NEAR(s.s_dd, 2e-4, 2e-4 * 1e-5);
   EXPECT_NEAR(s.s_id, 0.0, 1e-9);
@@ -163,7 +164,8 @@ TEST(JointWeights, NewtonReachesTheFixedPointInAFewPasses) {
     const JointScale s = compute_joint_weights(data.ri.data(), data.rd.data(), data.vi.data(), data.vd.data(), n, o,
                                                wi.data(), wd.data(), initial);
     int plain_iterations = 0;
-    const Eigen::Matrix2d plain = plain_fixed_point(data, o.nu, o.scale_tolerance, &plain_iterations, warm ? &near : nullptr);
+    const Eigen::Matrix2d plain =
+        plain_fixed_point(data, o.nu, o.scale_tolerance, &plain_iterations, warm ? &near : nullptr);
     EXPECT_LE(s.passes, warm ? 4 : 5);
     EXPECT_GE(plain_iterations, 2 * s.passes) << plain_iterations << " plain, " << s.passes << " Newton";
     EXPECT_LT(error(s.s_ii, s.s_id, s.s_dd), 1e-6);

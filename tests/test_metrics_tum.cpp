@@ -26,8 +26,7 @@ Eigen::Isometry3d rot_z(double a) {
 // A smooth generic camera motion: helix with a wobbling orientation.
 Eigen::Isometry3d generic_pose(double t) {
   se3::Vector6d xi;
-  xi << 0.3 * std::cos(t), 0.2 * std::sin(1.3 * t), 0.1 * t, 0.2 * std::sin(t), 0.1 * t,
-      -0.15 * std::cos(0.7 * t);
+  xi << 0.3 * std::cos(t), 0.2 * std::sin(1.3 * t), 0.1 * t, 0.2 * std::sin(t), 0.1 * t, -0.15 * std::cos(0.7 * t);
   return se3::exp(xi);
 }
 
@@ -48,16 +47,20 @@ TEST(MetricsRpe, ConstantTranslationalDriftGivesThatDriftPerSecond) {
   // Truth moves along x at 0.5 m/s; the estimate additionally drifts 0.07 m/s along y.
   // Each 1-s window then has error translation exactly (0, -0.07, 0) and no rotation.
   const double drift = 0.07;
-  const auto gt = sampled([](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(0.5 * t, 0, 1);
-    return T;
-  }, 100.0, 500);
-  const auto est = sampled([&](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(0.5 * t, drift * t, 1);
-    return T;
-  }, 25.0, 100);  // 25 Hz, 4 s; every estimate stamp equals a truth stamp to rounding
+  const auto gt = sampled(
+      [](double t) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(0.5 * t, 0, 1);
+        return T;
+      },
+      100.0, 500);
+  const auto est = sampled(
+      [&](double t) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(0.5 * t, drift * t, 1);
+        return T;
+      },
+      25.0, 100);  // 25 Hz, 4 s; every estimate stamp equals a truth stamp to rounding
   const RpeResult r = relative_pose_error(gt, est);
   // Windows i -> i+25; evaluate_rpe.py drops those ending on the last frame: 100 - 26 = 74.
   ASSERT_EQ(r.pairs.size(), 74u);
@@ -69,16 +72,20 @@ TEST(MetricsRpe, ConstantTranslationalDriftGivesThatDriftPerSecond) {
 
 TEST(MetricsRpe, DeltaScalesTheWindow) {
   const double drift = 0.07;
-  const auto gt = sampled([](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(0.5 * t, 0, 1);
-    return T;
-  }, 100.0, 500);
-  const auto est = sampled([&](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(0.5 * t, drift * t, 1);
-    return T;
-  }, 25.0, 100);
+  const auto gt = sampled(
+      [](double t) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(0.5 * t, 0, 1);
+        return T;
+      },
+      100.0, 500);
+  const auto est = sampled(
+      [&](double t) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(0.5 * t, drift * t, 1);
+        return T;
+      },
+      25.0, 100);
   RpeOptions o;
   o.delta_s = 0.4;  // 10 frames
   const RpeResult r = relative_pose_error(gt, est, o);
@@ -105,16 +112,20 @@ TEST(MetricsRpe, KnownRotationDriftAboutTheOpticalAxis) {
   // trans = |d - Rz(w t_j) d| (derivation in docs/metrics.md).
   const double w = 0.2;  // rad/s
   auto position = [](double t) { return Eigen::Vector3d(0.4 * t, 0.1 * t * t, 2.0 - 0.3 * t); };
-  const auto gt = sampled([&](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = position(t);
-    return T;
-  }, 100.0, 500);
-  const auto est = sampled([&](double t) {
-    Eigen::Isometry3d T = rot_z(w * t);
-    T.translation() = position(t);
-    return T;
-  }, 25.0, 100);
+  const auto gt = sampled(
+      [&](double t) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = position(t);
+        return T;
+      },
+      100.0, 500);
+  const auto est = sampled(
+      [&](double t) {
+        Eigen::Isometry3d T = rot_z(w * t);
+        T.translation() = position(t);
+        return T;
+      },
+      25.0, 100);
   const RpeResult r = relative_pose_error(gt, est);
   ASSERT_EQ(r.pairs.size(), 74u);
   double sum_t2 = 0, sum_r2 = 0;
@@ -195,11 +206,13 @@ TEST(MetricsAte, KnownResidualAfterAlignmentOnACube) {
 
 TEST(MetricsAte, ConstantOffsetIsRemovedByAlignment) {
   const auto gt = sampled(generic_pose, 100.0, 300);
-  const auto est = sampled([](double t) {
-    Eigen::Isometry3d T = generic_pose(t);
-    T.translation() += Eigen::Vector3d(3, -1, 2);
-    return T;
-  }, 25.0, 70);
+  const auto est = sampled(
+      [](double t) {
+        Eigen::Isometry3d T = generic_pose(t);
+        T.translation() += Eigen::Vector3d(3, -1, 2);
+        return T;
+      },
+      25.0, 70);
   EXPECT_NEAR(absolute_trajectory_error(gt, est).rmse, 0.0, 1e-9);
 }
 

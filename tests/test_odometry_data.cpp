@@ -13,14 +13,14 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry/image_statistics.h"
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/frame_stream.h"
 #include "odometry/io/lens_distortion.h"
-#include "odometry/image_statistics.h"
 #include "odometry/io/png_io.h"
-#include "odometry/robust_weights.h"
-#include "odometry/rgbd_pyramid.h"
 #include "odometry/io/tum_dataset.h"
+#include "odometry/rgbd_pyramid.h"
+#include "odometry/robust_weights.h"
 #include "solvers/error.h"
 #include "tests/test_support.h"
 
@@ -123,8 +123,7 @@ TEST(TumSequenceTest, NoAssociationNamesBothLists) {
 
 TEST(TumSequenceTest, AssociationsFileIsPreferredAndChecked) {
   const std::string dir = make_sequence("assoc", 2);
-  write_text(dir + "/associations.txt",
-             "1.100000 rgb/1.100000.png 1.105000 depth/1.105000.png\n");
+  write_text(dir + "/associations.txt", "1.100000 rgb/1.100000.png 1.105000 depth/1.105000.png\n");
   TumSequence seq = open_tum_sequence(dir);
   ASSERT_EQ(seq.frames.size(), 1u);
   EXPECT_DOUBLE_EQ(seq.frames[0].rgb_time, 1.1);
@@ -245,7 +244,7 @@ TEST(LensDistortion, UndistortionResamplesAtTheDistortedPositions) {
       }
     }
   }
-  EXPECT_GT(outside, 0);  // the corners of this lens fall outside the stored image
+  EXPECT_GT(outside, 0);          // the corners of this lens fall outside the stored image
   EXPECT_GT(largest_shift, 1.5);  // inside the image: ~1.9 pixels here, ten times that at 640x480
 
   // No distortion: the frame is left bit for bit; a frame of another size is an error.

@@ -15,9 +15,9 @@
 #include "odometry/rgbd_problem.h"
 #include "odometry/robust_weights.h"
 #include "odometry/tracker.h"
+#include "solvers/geometry/se3.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
-#include "solvers/geometry/se3.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
@@ -410,8 +410,8 @@ TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
   EXPECT_EQ(TrackerOptions{}.problem.jacobian, JacobianKind::kMethodDefault);
   EXPECT_EQ(parse_jacobian_kind("auto"), JacobianKind::kMethodDefault);
   EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kMethodDefault), JacobianKind::kInverse);
-  for (const Method m : {Method::kSingle, Method::kDepth, Method::kWeighted, Method::kBounded, Method::kScaled,
-                         Method::kNoiseBounded}) {
+  for (const Method m :
+       {Method::kSingle, Method::kDepth, Method::kWeighted, Method::kBounded, Method::kScaled, Method::kNoiseBounded}) {
     EXPECT_EQ(method_jacobian(m, JacobianKind::kMethodDefault), JacobianKind::kForward) << to_string(m);
   }
   EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kForward), JacobianKind::kForward);

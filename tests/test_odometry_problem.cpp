@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "odometry/io/pose_error.h"
+#include "odometry/io/tum_dataset.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/rgbd_pyramid.h"
-#include "odometry/io/tum_dataset.h"
 #include "solvers/error.h"
 #include "solvers/geometry/se3.h"
 
@@ -108,8 +108,8 @@ TEST(RgbdProblem, JacobiansMatchCentralDifferencesOnRealFrames) {
     for (int j : {1, 2}) {
       const FdReport rep = check_jacobian(problem, j, x, 1e-6);
       SCOPED_TRACE(sequence + " level " + std::to_string(level) + " objective " + std::to_string(j));
-      std::printf("[ fd ] %s level %d F_%d: %d rows compared, %d at cell borders, max rel err %.3g\n",
-                  sequence.c_str(), level, j, rep.compared, rep.kinks, rep.max_rel);
+      std::printf("[ fd ] %s level %d F_%d: %d rows compared, %d at cell borders, max rel err %.3g\n", sequence.c_str(),
+                  level, j, rep.compared, rep.kinks, rep.max_rel);
       EXPECT_GT(rep.compared, 10000);
       EXPECT_LT(rep.kinks, rep.compared / 50);  // cell-border rows are rare at h = 1e-6
       EXPECT_EQ(rep.failures, 0) << "max relative error " << rep.max_rel;

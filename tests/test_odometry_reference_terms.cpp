@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry/reference_terms.h"
 #include "odometry/kernels/rgbd_kernels.h"
+#include "odometry/reference_terms.h"
 #include "odometry/rgbd_pyramid.h"
 
 using namespace bivo::odometry;
@@ -148,8 +148,8 @@ TEST(ReferenceTerms, ThreadsCountTheDepthsAtTheBoundsAsTheRowTest) {
     for (int v = 20; v < level.depth.height; ++v) {  // the lower half: the second thread's rows
       for (int u = 0; u < level.depth.width; ++u) {
         const double bound = (u + v) % 2 ? min_depth : max_depth;
-        level.depth.at(u, v) = std::isinf(bound) ? (u % 3 ? 7.5f : static_cast<float>(inf))
-                                                 : around(bound, (u + 3 * v) % 5 - 2);
+        level.depth.at(u, v) =
+            std::isinf(bound) ? (u % 3 ? 7.5f : static_cast<float>(inf)) : around(bound, (u + 3 * v) % 5 - 2);
       }
     }
     std::vector<float> z;  // the oracle: reference_row's test, pixel by pixel

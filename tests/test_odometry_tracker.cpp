@@ -38,9 +38,9 @@ TEST(Tracker, EveryMethodRecoversGroundTruthMotion) {
     const char* sequence;
     int i, j;
   };
-  for (const Case c : {Case{"rgbd_dataset_freiburg1_desk", 2, 3}, Case{"rgbd_dataset_freiburg1_desk", 4, 5},
-                       Case{"rgbd_dataset_freiburg1_desk", 6, 7},
-                       Case{"rgbd_dataset_freiburg3_long_office_household", 3, 9}}) {
+  for (const Case c :
+       {Case{"rgbd_dataset_freiburg1_desk", 2, 3}, Case{"rgbd_dataset_freiburg1_desk", 4, 5},
+        Case{"rgbd_dataset_freiburg1_desk", 6, 7}, Case{"rgbd_dataset_freiburg3_long_office_household", 3, 9}}) {
     TrackerOptions o;
     const FramePair pair = load_frame_pair(kData + c.sequence, c.i, c.j, o);
     ASSERT_TRUE(pair.groundtruth_T21);
@@ -49,9 +49,9 @@ TEST(Tracker, EveryMethodRecoversGroundTruthMotion) {
       o.method = method;
       const PairResult r = estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), o);
       const PoseError e = pose_error(r.T_21, *pair.groundtruth_T21);
-      std::printf("[ pair ] %s %d->%d (motion %.4f m %.3f deg) %-8s error %.4f m %.3f deg, %d iterations\n",
-                  c.sequence, c.i, c.j, motion.translation_m, motion.rotation_deg, method.c_str(), e.translation_m,
-                  e.rotation_deg, r.iterations);
+      std::printf("[ pair ] %s %d->%d (motion %.4f m %.3f deg) %-8s error %.4f m %.3f deg, %d iterations\n", c.sequence,
+                  c.i, c.j, motion.translation_m, motion.rotation_deg, method.c_str(), e.translation_m, e.rotation_deg,
+                  r.iterations);
       EXPECT_TRUE(r.valid) << method;
       EXPECT_LT(e.translation_m, 0.01) << c.sequence << " " << method;
       EXPECT_LT(e.rotation_deg, 0.5) << c.sequence << " " << method;
@@ -191,7 +191,8 @@ TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
   TrackerOptions o;
   o.levels = 3;
   o.finest_level = 1;
-  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels), cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels),
+                      cur = prepare_frame(b, seq.intrinsics, o.levels);
   const PreparedFrame ref_bare = prepare_frame(a, seq.intrinsics, o.levels, 1, 0, false);
   const PreparedFrame cur_bare = prepare_frame(b, seq.intrinsics, o.levels, 1, 0, false);
   ASSERT_TRUE(ref.has_statistics);
@@ -225,7 +226,7 @@ TEST(Tracker, FramesWithoutStatisticsGiveTheSameEstimates) {
 // otherwise they stretch every pair's wall time (docs/scaling.md).
 TEST(Tracker, AutoLoadThreadsTakeOnlyFreeCores) {
   TrackerOptions o;
-  EXPECT_EQ(o.load_threads, 0);  // auto by default
+  EXPECT_EQ(o.load_threads, 0);          // auto by default
   EXPECT_EQ(load_threads_for(o, 2), 1);  // one thread + two loaders > 2 cores
   EXPECT_EQ(load_threads_for(o, 3), 2);
   o.problem.threads = 2;
@@ -306,10 +307,11 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   const PairResult unguarded = solve("noise-bounded", 1e9);
   const PoseError es = pose_error(single.T_21, *gt), eg = pose_error(guarded.T_21, *gt),
                   eu = pose_error(unguarded.T_21, *gt);
-  std::printf("[ biased depth ] single %.4f m %.3f deg | noise-bounded %.4f m %.3f deg (%d levels relaxed) | "
-              "without guard %.4f m %.3f deg\n",
-              es.translation_m, es.rotation_deg, eg.translation_m, eg.rotation_deg, guarded.relaxed_levels,
-              eu.translation_m, eu.rotation_deg);
+  std::printf(
+      "[ biased depth ] single %.4f m %.3f deg | noise-bounded %.4f m %.3f deg (%d levels relaxed) | "
+      "without guard %.4f m %.3f deg\n",
+      es.translation_m, es.rotation_deg, eg.translation_m, eg.rotation_deg, guarded.relaxed_levels, eu.translation_m,
+      eu.rotation_deg);
   ASSERT_EQ(guarded.levels.size(), 4u);
   EXPECT_TRUE(guarded.levels.back().relaxed) << "the bound at full resolution must be relaxed";
   EXPECT_EQ(unguarded.relaxed_levels, 0);
@@ -321,8 +323,8 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
 
   // The same pair with the depth as measured: the bound costs the photometric data far less
   // (the guard's statistic is what separates the two cases, not the threshold alone).
-  const PreparedFrame cur_unbiased = prepare_frame(load_rgbd_image(seq.frames[3], a.width, a.height), seq.intrinsics,
-                                                   o.levels);
+  const PreparedFrame cur_unbiased =
+      prepare_frame(load_rgbd_image(seq.frames[3], a.width, a.height), seq.intrinsics, o.levels);
   TrackerOptions nb = o;
   nb.method = "noise-bounded";
   const PairResult unbiased = estimate_motion(ref, cur_unbiased, Eigen::Isometry3d::Identity(), nb);
@@ -347,9 +349,10 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   const PairResult r_unfinished = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), unfinished);
   ASSERT_TRUE(r_unfinished.levels.back().relaxed);
   const PoseError s_finished = photometric_step(guarded.T_21), s_unfinished = photometric_step(r_unfinished.T_21);
-  std::printf("[ relaxed level ] next photometric step from the finished x_I %.2e m %.2e deg, unfinished %.2e m %.2e "
-              "deg\n",
-              s_finished.translation_m, s_finished.rotation_deg, s_unfinished.translation_m, s_unfinished.rotation_deg);
+  std::printf(
+      "[ relaxed level ] next photometric step from the finished x_I %.2e m %.2e deg, unfinished %.2e m %.2e "
+      "deg\n",
+      s_finished.translation_m, s_finished.rotation_deg, s_unfinished.translation_m, s_unfinished.rotation_deg);
   EXPECT_GT(guarded.iterations, r_unfinished.iterations);
   // Measured 0.62x (3.96e-5 vs 6.40e-5 m): the finish also ends at the 1e-4 step tolerance,
   // and this step re-estimates the weights from scratch.
@@ -422,10 +425,11 @@ TEST(Tracker, ExactFinishEndsAtAFixedPointOfExactGaussNewton) {
   const PairResult r_inverse = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), inverse_only);
   const PairResult r_finished = estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), finished);
   const PoseError s_inverse = exact_step(r_inverse.T_21), s_finished = exact_step(r_finished.T_21);
-  std::printf("[ exact step ] from the inverse-only estimate %.2e m %.2e deg, from the exact finish %.2e m %.2e deg "
-              "(iterations %d -> %d)\n",
-              s_inverse.translation_m, s_inverse.rotation_deg, s_finished.translation_m, s_finished.rotation_deg,
-              r_inverse.iterations, r_finished.iterations);
+  std::printf(
+      "[ exact step ] from the inverse-only estimate %.2e m %.2e deg, from the exact finish %.2e m %.2e deg "
+      "(iterations %d -> %d)\n",
+      s_inverse.translation_m, s_inverse.rotation_deg, s_finished.translation_m, s_finished.rotation_deg,
+      r_inverse.iterations, r_finished.iterations);
   EXPECT_GT(r_finished.iterations, r_inverse.iterations);
   EXPECT_LT(s_finished.translation_m, 0.3 * s_inverse.translation_m);
   EXPECT_LT(s_finished.rotation_deg, 0.3 * s_inverse.rotation_deg);

@@ -13,7 +13,8 @@ namespace {
 
 MethodMatrix matrix(double single_nt, double weighted_nt, double single_t, double weighted_t) {
   MethodMatrix m;
-  m.sequences = {"rgbd_dataset_freiburg3_synth_structure_notexture_near", "rgbd_dataset_freiburg3_structure_texture_near"};
+  m.sequences = {"rgbd_dataset_freiburg3_synth_structure_notexture_near",
+                 "rgbd_dataset_freiburg3_structure_texture_near"};
   m.methods = {MethodSpec{"single", ""}, MethodSpec{"weighted", ""}};
   const double rpe[2][2] = {{single_nt, single_t}, {weighted_nt, weighted_t}};
   for (int r = 0; r < 2; ++r) {
@@ -59,7 +60,7 @@ TEST(PaperClaims, RowsFollowTheNumbers) {
   const ClaimRow* drop = find(good, "without texture", "structure_notexture_near / structure_texture_near");
   ASSERT_NE(drop, nullptr);
   EXPECT_EQ(drop->paper, "7.85x");  // 0.125235 / 0.015956, table 1
-  EXPECT_TRUE(drop->holds);  // 10x
+  EXPECT_TRUE(drop->holds);         // 10x
   // The same matrix with weighted worse than single and no texture drop: the claims fail.
   const auto bad = paper_claims(matrix(0.012, 0.02, 0.010, 0.011));
   EXPECT_FALSE(find(bad, "weighted better than single", "structure_notexture_near")->holds);

@@ -21,7 +21,8 @@ TEST(RunBeside, OneThreadRunsMainThenBesideOnTheCaller) {
   const auto caller = std::this_thread::get_id();
   std::thread::id beside_thread;
   run_beside(
-      1, [&] { order.push_back("main"); }, [&] {
+      1, [&] { order.push_back("main"); },
+      [&] {
         order.push_back("beside");
         beside_thread = std::this_thread::get_id();
       });

@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_full_backend.h"
+#include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers;
 

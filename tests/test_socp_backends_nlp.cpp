@@ -6,11 +6,11 @@
 
 #include "tests/test_support.h"
 
-#include "tests/support/synthetic_qcqp.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipopt_qcqp_backend.h"
 #include "solvers/step/nlopt_slsqp_backend.h"
+#include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers;
 

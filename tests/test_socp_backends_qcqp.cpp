@@ -7,12 +7,12 @@
 
 #include "tests/test_support.h"
 
-#include "solvers/step/qcqp_socp.h"
-#include "tests/support/synthetic_qcqp.h"
 #include "solvers/error.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_compressed_backend.h"
 #include "solvers/step/ipm_full_backend.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers;
 
@@ -21,7 +21,6 @@ using bivo::testing::eps_subproblem;
 namespace {
 
 double rel(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / std::max(1e-12, b.norm()); }
-
 
 }  // namespace
 
@@ -52,8 +51,8 @@ TEST(SocpBackends, IpmFullAndCompressedMatchExactStepInRawUnits) {
       EXPECT_EQ(rp.status.find("polished"), std::string::npos) << rp.status;
       for (int k = 0; k < 4; ++k) {
         const StepResult* r = results[k];
-        SCOPED_TRACE("n = " + std::to_string(n) + ", seed " + std::to_string(seed) + ", form " +
-                     std::to_string(k) + ", status " + r->status);
+        SCOPED_TRACE("n = " + std::to_string(n) + ", seed " + std::to_string(seed) + ", form " + std::to_string(k) +
+                     ", status " + r->status);
         EXPECT_EQ(r->status.rfind("optimal", 0), 0u);
         EXPECT_TRUE(r->feasible);
         EXPECT_LT(rel(r->delta, ex.delta), step_tol[k]);

@@ -13,18 +13,16 @@
 #include <gtest/gtest.h>
 
 #include "solvers/conic/ipm_solver.h"
-#include "solvers/step/qcqp_socp.h"
-#include "tests/support/synthetic_qcqp.h"
 #include "solvers/step/exact_qcqp.h"
 #include "solvers/step/ipm_full_backend.h"
+#include "solvers/step/qcqp_socp.h"
+#include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers;
 
 namespace {
 
-double step_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) {
-  return (d - exact).norm() / exact.norm();
-}
+double step_error(const Eigen::VectorXd& d, const Eigen::VectorXd& exact) { return (d - exact).norm() / exact.norm(); }
 
 }  // namespace
 

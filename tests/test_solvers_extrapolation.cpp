@@ -3,8 +3,8 @@
 // the plain solve an all-refused extrapolation must reproduce iterate for iterate.
 #include <cmath>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "tests/solvers_test_problems.h"
 #include "tests/test_support.h"
@@ -13,8 +13,8 @@
 
 using namespace bivo;
 using bivo::testing::Counting;
-using bivo::testing::ReweightedLinearPair;
 using bivo::testing::rel_err;
+using bivo::testing::ReweightedLinearPair;
 
 namespace {
 
@@ -68,8 +68,8 @@ TEST(SolversExtrapolation, ExtrapolatedStepsReachTheIrlsFixedPointInFewerIterati
   EXPECT_LT(rel_err(x_extrapolated, x_plain), 1e-7);
   EXPECT_EQ(plain.extrapolated_steps, 0);
   EXPECT_GT(extrapolated.extrapolated_steps, 0);
-  EXPECT_LT(extrapolated.iterations, 0.7 * plain.iterations)
-      << plain.iterations << " plain iterations\n" << extrapolated.FullReport();
+  EXPECT_LT(extrapolated.iterations, 0.7 * plain.iterations) << plain.iterations << " plain iterations\n"
+                                                             << extrapolated.FullReport();
   EXPECT_NE(extrapolated.FullReport().find("Extrapolated steps"), std::string::npos);
 }
 

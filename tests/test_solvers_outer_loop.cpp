@@ -6,8 +6,8 @@
 #include <limits>
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "tests/solvers_test_problems.h"
 #include "tests/test_support.h"
@@ -17,8 +17,8 @@
 #include "problems/point_alignment_pair.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
-#include "solvers/outer_loop.h"
 #include "solvers/geometry/se3.h"
+#include "solvers/outer_loop.h"
 
 using namespace bivo;
 using bivo::problems::ExponentialDecayPair;
@@ -26,8 +26,8 @@ using bivo::problems::LinearLeastSquaresPair;
 using bivo::problems::PointAlignmentPair;
 
 using bivo::testing::Counting;
-using bivo::testing::ReweightedLinearPair;
 using bivo::testing::rel_err;
+using bivo::testing::ReweightedLinearPair;
 
 namespace {
 
@@ -46,7 +46,9 @@ class NanBeyond final : public solvers::BiObjectiveProblem {
     if (x.norm() > radius_) return {NAN, NAN};
     return inner_.evaluate(x);
   }
-  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override { return inner_.residuals(j, x, J); }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override {
+    return inner_.residuals(j, x, J);
+  }
 
  private:
   solvers::BiObjectiveProblem& inner_;
@@ -77,7 +79,8 @@ class WrongSizeModels final : public solvers::BiObjectiveProblem {
 TEST(SolversOuterLoop, EveryWeightedSumBackendReachesTheClosedFormOnLinearPairs) {
   std::mt19937_64 rng(99);
   for (int draw = 0; draw < 100; ++draw) {
-    auto p = draw % 2 ? LinearLeastSquaresPair::ill_conditioned(6, rng(), 1e3) : LinearLeastSquaresPair::well_conditioned(6, rng());
+    auto p = draw % 2 ? LinearLeastSquaresPair::ill_conditioned(6, rng(), 1e3)
+                      : LinearLeastSquaresPair::well_conditioned(6, rng());
     const double lambda = std::pow(10.0, std::uniform_real_distribution<double>(-2, 2)(rng));
     const Eigen::VectorXd want = p.weighted_sum_optimum(lambda);
     for (const char* backend : {"gn", "lm", "ceres"}) {
@@ -96,7 +99,8 @@ TEST(SolversOuterLoop, EveryWeightedSumBackendReachesTheClosedFormOnLinearPairs)
 TEST(SolversOuterLoop, ExactBackendReachesTheEpsilonOptimumOnLinearPairs) {
   std::mt19937_64 rng(5);
   for (int draw = 0; draw < 20; ++draw) {
-    auto p = draw % 2 ? LinearLeastSquaresPair::ill_conditioned(6, rng(), 1e3) : LinearLeastSquaresPair::well_conditioned(6, rng());
+    auto p = draw % 2 ? LinearLeastSquaresPair::ill_conditioned(6, rng(), 1e3)
+                      : LinearLeastSquaresPair::well_conditioned(6, rng());
     const double lo = p.objectives(p.minimizer(2))[1], hi = p.objectives(p.minimizer(1))[1];
     const double eps = lo + 0.3 * (hi - lo);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(6);
@@ -297,7 +301,8 @@ TEST(SolversOuterLoop, ACarriedLinearizationIsTheSolveThatWouldHaveLinearizedThe
   Eigen::VectorXd elsewhere = Eigen::VectorXd::Constant(4, 0.1);
   const int before = problem.linearizations;
   solvers::solve(problem, solvers::WeightedSum(3.0), "gn", elsewhere, opt, &carry);
-  EXPECT_EQ(problem.linearizations - before, opt.max_iterations) << "one at the start, one per accepted step but the last";
+  EXPECT_EQ(problem.linearizations - before, opt.max_iterations)
+      << "one at the start, one per accepted step but the last";
 
   // keep_final_point: the last step is evaluated with evaluate().
   opt.keep_final_point = true;

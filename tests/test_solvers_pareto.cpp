@@ -53,7 +53,8 @@ solvers::ParetoOptions tight(int points) {
 }  // namespace
 
 TEST(SolversPareto, LambdaSweepReproducesTheAnalyticFront) {
-  for (auto p : {LinearLeastSquaresPair::well_conditioned(5, 31), LinearLeastSquaresPair::ill_conditioned(5, 32, 1e3)}) {
+  for (auto p :
+       {LinearLeastSquaresPair::well_conditioned(5, 31), LinearLeastSquaresPair::ill_conditioned(5, 32, 1e3)}) {
     const auto front = solvers::sweep_lambda(p, Eigen::VectorXd::Zero(5), tight(25));
     ASSERT_EQ(front.all.size(), 25u);
     EXPECT_EQ(front.dropped, 0) << p.name();
@@ -71,7 +72,8 @@ TEST(SolversPareto, LambdaSweepReproducesTheAnalyticFront) {
 }
 
 TEST(SolversPareto, EpsilonSweepReproducesTheAnalyticFrontAndItsRange) {
-  for (auto p : {LinearLeastSquaresPair::well_conditioned(4, 41), LinearLeastSquaresPair::ill_conditioned(6, 42, 1e3)}) {
+  for (auto p :
+       {LinearLeastSquaresPair::well_conditioned(4, 41), LinearLeastSquaresPair::ill_conditioned(6, 42, 1e3)}) {
     const int n = p.dim();
     const auto front = solvers::sweep_epsilon(p, Eigen::VectorXd::Zero(n), tight(15));
     const double f2_min = p.objectives(p.minimizer(2))[1];
@@ -155,7 +157,9 @@ class FailsFromPredictions final : public solvers::BiObjectiveProblem {
     visited_.push_back(x);
     return inner_.evaluate(x);
   }
-  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override { return inner_.residuals(j, x, J); }
+  solvers::ResidualData residuals(int j, const Eigen::VectorXd& x, bool J) override {
+    return inner_.residuals(j, x, J);
+  }
   int predicted_starts = 0;
 
  private:

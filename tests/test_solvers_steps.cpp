@@ -7,8 +7,8 @@
 #include <limits>
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "tests/test_support.h"
 

@@ -27,9 +27,9 @@ struct StudyDir {
 // `bivo plan report` of the test study into d/study.json (merged output d/merged); stdout.
 std::string plan(const std::vector<std::string>& sequences, const StudyDir& d, const std::string& extra = "") {
   fs::create_directories(d.dir);
-  const Shell r = shell(bivo_cli() + " plan report " + study_flags(sequences, d.merged()) + " --study " +
-                            q(d.study()) + " " + extra,
-                        d.dir);
+  const Shell r = shell(
+      bivo_cli() + " plan report " + study_flags(sequences, d.merged()) + " --study " + q(d.study()) + " " + extra,
+      d.dir);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find(std::to_string(kStudyUnits) + " unit(s)"), std::string::npos) << r.err;
   return r.out;
@@ -72,7 +72,8 @@ std::vector<fs::path> result_paths(const fs::path& dir) {
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     if (e.path().extension() == ".json") files.push_back(e.path());
   }
-  std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
+  std::sort(files.begin(), files.end(),
+            [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
   return files;
 }
 

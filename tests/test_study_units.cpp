@@ -63,8 +63,9 @@ TEST(StudyFile, RoundTripsBitForBitAndIsStrict) {
             std::string::npos);
   nlohmann::json bad_tracker = j;
   bad_tracker["tracker"]["levels"] = 0;
-  EXPECT_NE(error_of([&] { study_from_json(bad_tracker, "s.json"); }).find("s.json.tracker: levels: 0 is outside [1, 8]"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { study_from_json(bad_tracker, "s.json"); }).find("s.json.tracker: levels: 0 is outside [1, 8]"),
+      std::string::npos);
   nlohmann::json table_kind = j;
   table_kind["kind"] = "table";
   EXPECT_NE(error_of([&] { study_from_json(table_kind, "s.json"); }).find("has no 'sweep' part"), std::string::npos);
@@ -96,11 +97,9 @@ TEST(StudyUnits, AreNamedAndOrderedTableSweepPareto) {
   std::vector<std::string> ids;
   for (const auto& u : units) ids.push_back(u.id);
   const std::vector<std::string> want = {
-      "table/0-single/0-freiburg1_rpy",      "table/0-single/1-teddy",
-      "table/1-bounded_ipm-full/0-freiburg1_rpy", "table/1-bounded_ipm-full/1-teddy",
-      "sweep/0-teddy/single",                "sweep/0-teddy/lambda-0=100",
-      "sweep/0-teddy/lambda-1=10000",        "sweep/0-teddy/epsilon-0=0.001",
-      "pareto/0-teddy/pair-9"};
+      "table/0-single/0-freiburg1_rpy",   "table/0-single/1-teddy",        "table/1-bounded_ipm-full/0-freiburg1_rpy",
+      "table/1-bounded_ipm-full/1-teddy", "sweep/0-teddy/single",          "sweep/0-teddy/lambda-0=100",
+      "sweep/0-teddy/lambda-1=10000",     "sweep/0-teddy/epsilon-0=0.001", "pareto/0-teddy/pair-9"};
   EXPECT_EQ(ids, want);
   EXPECT_EQ(units[3].item, 3);  // method 1 x 2 sequences + sequence 1
   EXPECT_EQ(units[8].part, "pareto");
@@ -253,8 +252,8 @@ TEST(SweepAssembly, RatiosToTheReferenceAndNotes) {
   const SweepResult without_b = assemble_sweep(o, runs);
   EXPECT_EQ(without_b.points.size(), 2u);
   ASSERT_EQ(without_b.notes.size(), 1u);
-  EXPECT_EQ(without_b.notes[0], "b: the single-objective reference failed (" + runs[3].error +
-                                    "); its points are left out");
+  EXPECT_EQ(without_b.notes[0],
+            "b: the single-objective reference failed (" + runs[3].error + "); its points are left out");
   runs[3] = ok(units[3], 0.5, 0.5);
   runs[4].ok = false;
   runs[4].error = "diverged";
@@ -277,8 +276,9 @@ TEST(StudyLaunch, SlurmArrayAndGnuParallelCommandLines) {
   EXPECT_NE(array.find("#SBATCH --array=0-3%2\n"), std::string::npos) << array;
   EXPECT_NE(array.find("#SBATCH --cpus-per-task=3\n"), std::string::npos) << array;
   EXPECT_NE(array.find("#SBATCH --mem=4G\n"), std::string::npos) << array;
-  EXPECT_NE(array.find("exec /opt/bivo work /s/study.json --shard \"${SLURM_ARRAY_TASK_ID}/4\" --results '/s/study results'"),
-            std::string::npos)
+  EXPECT_NE(
+      array.find("exec /opt/bivo work /s/study.json --shard \"${SLURM_ARRAY_TASK_ID}/4\" --results '/s/study results'"),
+      std::string::npos)
       << array;
   const std::string submit = slurm_submit_script(o, "/s/study.sbatch");
   EXPECT_NE(submit.find("--dependency=afterok:${array}"), std::string::npos) << submit;

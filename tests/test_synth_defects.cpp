@@ -142,8 +142,8 @@ TEST(SynthDefects, MisregistrationShiftsADepthEdgeByFocalTimesBaselineOverDepth)
   for (int shift : {2, 3}) {
     synth::RenderSettings m = r;
     m.defects.depth_offset_m = Eigen::Vector3d(shift * Z1 / fx, 0, 0);
-    const synth::RenderedFrame f =
-        synth::render_timed_frame(s, [](double) { return Eigen::Isometry3d::Identity(); }, m, 0);
+    const synth::RenderedFrame f = synth::render_timed_frame(
+        s, [](double) { return Eigen::Isometry3d::Identity(); }, m, 0);
     EXPECT_EQ(edge_column(f), edge_column(base) - shift);
     EXPECT_EQ(f.rgb, base.rgb);
     // Far from the edge the background depth is unchanged (a plane parallel to the motion).
@@ -162,20 +162,26 @@ TEST(SynthDefects, MotionBlurOfAKnownTranslationIsTheAverageOfShiftedImages) {
   const synth::RenderedFrame sharp = synth::render_frame(s, Eigen::Isometry3d::Identity(), r, 0);
   r.defects.exposure_s = e;
   r.defects.blur_samples = 3;
-  const synth::RenderedFrame blur =
-      synth::render_timed_frame(s, [&](double dt) { return translated({V * dt, 0, 0}); }, r, 0);
+  const synth::RenderedFrame blur = synth::render_timed_frame(
+      s,
+      [&](double dt) {
+        return translated({V * dt, 0, 0});
+      },
+      r, 0);
   double worst = 0, change = 0;
   for (int v = 20; v < H - 20; v += 3) {
     for (int u = 20; u < W - 20; ++u) {
       for (int c = 0; c < 3; ++c) {
-        const auto at = [&](const synth::RenderedFrame& f, int x) { return static_cast<double>(f.rgb[3 * (v * W + x) + c]); };
+        const auto at = [&](const synth::RenderedFrame& f, int x) {
+          return static_cast<double>(f.rgb[3 * (v * W + x) + c]);
+        };
         const double mean = (at(sharp, u - 2) + at(sharp, u) + at(sharp, u + 2)) / 3.0;
         worst = std::max(worst, std::fabs(at(blur, u) - mean));
         change = std::max(change, std::fabs(at(blur, u) - at(sharp, u)));
       }
     }
   }
-  EXPECT_LE(worst, 1.0);  // rounding of the three sharp images and of the blurred one
+  EXPECT_LE(worst, 1.0);    // rounding of the three sharp images and of the blurred one
   EXPECT_GT(change, 20.0);  // the control: blur does change the poster image
 }
 
@@ -269,7 +275,8 @@ TEST(SynthDefects, NoDefectMeansTheUntimedRenderer) {
   synth::RenderSettings r;  // noise on, no defect
   const Eigen::Isometry3d T = translated({0.01, 0, 0});
   const synth::RenderedFrame a = synth::render_frame(s, T, r, 3);
-  const synth::RenderedFrame b = synth::render_timed_frame(s, [&](double) { return T; }, r, 3);
+  const synth::RenderedFrame b = synth::render_timed_frame(
+      s, [&](double) { return T; }, r, 3);
   EXPECT_EQ(a.rgb, b.rgb);
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_FALSE(r.defects.any());

@@ -37,7 +37,8 @@ TEST(SynthMotion, HandheldMotionIsSmoothAndBounded) {
   const double dt = 1.0 / o.rate_hz;
   double max_acc = 0, max_excursion = 0, max_speed = 0;
   for (std::size_t k = 1; k + 1 < t.size(); ++k) {
-    const Eigen::Vector3d a = (t[k + 1].T_wc.translation() - 2 * t[k].T_wc.translation() + t[k - 1].T_wc.translation()) / (dt * dt);
+    const Eigen::Vector3d a =
+        (t[k + 1].T_wc.translation() - 2 * t[k].T_wc.translation() + t[k - 1].T_wc.translation()) / (dt * dt);
     max_acc = std::max(max_acc, a.norm());
     max_speed = std::max(max_speed, (t[k + 1].T_wc.translation() - t[k].T_wc.translation()).norm() / dt);
     max_excursion = std::max(max_excursion, (t[k].T_wc.translation() - t[0].T_wc.translation()).norm());

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <vector>
 
-#include <Eigen/SVD>
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 
 #include "odometry/synth/noise_field.h"
 #include "odometry/synth/random.h"
@@ -39,7 +39,8 @@ template <class Get>
 double complexity(int w, int h, Get get) {
   double sum = 0;
   for (int v = 1; v + 1 < h; ++v) {
-    for (int u = 1; u + 1 < w; ++u) sum += std::fabs(get(u, v + 1) - get(u, v - 1)) + std::fabs(get(u + 1, v) - get(u - 1, v));
+    for (int u = 1; u + 1 < w; ++u)
+      sum += std::fabs(get(u, v + 1) - get(u, v - 1)) + std::fabs(get(u + 1, v) - get(u - 1, v));
   }
   return sum / ((w - 2.0) * (h - 2.0));
 }
@@ -70,7 +71,8 @@ TEST(SynthRender, PlaneDepthEqualsClosedFormRayPlaneIntersection) {
     for (int u = 0; u < f.width; ++u) {
       const std::uint16_t d = f.depth[v * f.width + u];
       if (d == 0) continue;
-      const Eigen::Vector3d dir = R * Eigen::Vector3d((u - s.camera.cx) / s.camera.fx, (v - s.camera.cy) / s.camera.fy, 1);
+      const Eigen::Vector3d dir =
+          R * Eigen::Vector3d((u - s.camera.cx) / s.camera.fx, (v - s.camera.cy) / s.camera.fy, 1);
       const double z = -C.z() / dir.z();
       worst = std::max(worst, std::fabs(d / 5000.0 - z));
       ++checked;
@@ -171,8 +173,8 @@ TEST(SynthRender, CategoriesDifferInTextureAndStructureAsNamed) {
     EXPECT_GT(plane_rms[true][st], 0.05) << "structure, texture=" << st;
   }
   std::cout << "pi(I) nostructure/structure x notexture/texture: " << pi_i[0][0] << " " << pi_i[0][1] << " "
-            << pi_i[1][0] << " " << pi_i[1][1] << "; plane-fit RMS [m]: " << plane_rms[0][0] << " "
-            << plane_rms[1][0] << "\n";
+            << pi_i[1][0] << " " << pi_i[1][1] << "; plane-fit RMS [m]: " << plane_rms[0][0] << " " << plane_rms[1][0]
+            << "\n";
 }
 
 TEST(SynthRender, DepthIsMissingAtOccludingEdgesGrazingAnglesAndBeyondRange) {
@@ -200,7 +202,7 @@ TEST(SynthRender, DepthIsMissingAtOccludingEdgesGrazingAnglesAndBeyondRange) {
       }
     }
   }
-  EXPECT_GT(jumps, 100);   // the top edge of the zig-zag against the wall is in view
+  EXPECT_GT(jumps, 100);  // the top edge of the zig-zag against the wall is in view
   EXPECT_GT(beyond, 1000);
   // Grazing: a camera looking along the plane sees it at > 75 degrees incidence everywhere.
   const synth::Scene plane = synth::build_scene(synth::parse_category("nostructure_texture_near"), 7);
@@ -212,7 +214,8 @@ TEST(SynthRender, DepthIsMissingAtOccludingEdgesGrazingAnglesAndBeyondRange) {
     if (z <= 0 || z > 4) continue;
     // Incidence from the ray and the plane normal (0,0,1) in world coordinates.
     const int u = static_cast<int>(i % 640), v = static_cast<int>(i / 640);
-    const Eigen::Vector3d d = (grazing.linear() * Eigen::Vector3d((u - 320.1) / 535.4, (v - 247.6) / 539.2, 1)).normalized();
+    const Eigen::Vector3d d =
+        (grazing.linear() * Eigen::Vector3d((u - 320.1) / 535.4, (v - 247.6) / 539.2, 1)).normalized();
     if (std::fabs(d.z()) < std::cos(75.5 * M_PI / 180)) {
       ++hits;
       EXPECT_EQ(g.depth[i], 0);

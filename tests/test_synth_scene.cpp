@@ -8,8 +8,8 @@
 #include <iostream>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "odometry/synth/render.h"
 #include "odometry/synth/scene.h"
@@ -92,8 +92,8 @@ TEST(SynthScene, DepthAloneConstrainsAllSixDegreesOfFreedomOnStructureNotOnThePl
     const synth::RenderedFrame f = synth::render_frame(scene, scene.nominal_T_wc, s, 0);
     const Eigen::VectorXd ev = depth_information_eigenvalues(f, s.camera);
     const double ratio = ev(0) / ev(5);
-    std::cout << c.name() << ": eigenvalues of the depth information " << ev.transpose()
-              << ", smallest/largest " << ratio << "\n";
+    std::cout << c.name() << ": eigenvalues of the depth information " << ev.transpose() << ", smallest/largest "
+              << ratio << "\n";
     if (c.structure) {
       EXPECT_GT(ratio, 1e-3) << c.name();  // the zig-zag's two normals and the floor's span R^3
     } else {

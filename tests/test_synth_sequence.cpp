@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 
 #include "odometry/io/png_io.h"
-#include "odometry/synth/sequence.h"
 #include "odometry/io/trajectory.h"
+#include "odometry/synth/sequence.h"
 #include "solvers/error.h"
 #include "solvers/geometry/se3.h"
 
@@ -101,7 +101,8 @@ Medians warp_residuals(const Frame& f1, const Frame& f2, const Eigen::Isometry3d
 }
 
 Frame load(const fs::path& seq, const std::string& rgb_rel, const std::string& depth_rel) {
-  return {bivo::odometry::io::read_png8((seq / rgb_rel).string()), bivo::odometry::io::read_png16((seq / depth_rel).string())};
+  return {bivo::odometry::io::read_png8((seq / rgb_rel).string()),
+          bivo::odometry::io::read_png16((seq / depth_rel).string())};
 }
 
 // Renders `frames` frames and checks every consecutive pair; returns the medians of the
@@ -159,7 +160,8 @@ TEST(SynthSequence, BackProjectionWithGroundTruthMatchesAtNoiseLevel) {
 }
 
 TEST(SynthSequence, BackProjectionAlongRealTumTrajectory) {
-  const fs::path traj = fs::path(BIVO_SHARED_DIR) / "data/trajectories/rgbd_dataset_freiburg3_structure_texture_near-groundtruth.txt";
+  const fs::path traj =
+      fs::path(BIVO_SHARED_DIR) / "data/trajectories/rgbd_dataset_freiburg3_structure_texture_near-groundtruth.txt";
   if (!fs::exists(traj)) GTEST_SKIP() << "shared data not found at " << traj << " (BIVO_SHARED_DIR)";
   const fs::path out = fresh_dir("real");
   synth::SynthOptions o;
@@ -243,7 +245,8 @@ TEST(SynthSequence, SameSeedGivesIdenticalFilesWhateverTheThreadsOtherSeedDoesNo
       // Text files name the sequence; compare them with the name replaced.
       std::string ta = bytes(e.path()), tb = bytes(b / rel);
       for (auto* t : {&ta, &tb}) {
-        for (auto pos = t->find("_freiburg3"); pos != std::string::npos; pos = t->find("_freiburg3", pos + 1)) (*t)[pos - 1] = 'X';
+        for (auto pos = t->find("_freiburg3"); pos != std::string::npos; pos = t->find("_freiburg3", pos + 1))
+          (*t)[pos - 1] = 'X';
       }
       EXPECT_EQ(ta, tb) << rel;
     } else {
@@ -271,7 +274,8 @@ TEST(SynthSequence, BadInputGivesClearErrorsAndNoFolder) {
   expect_error([] { synth::parse_category("wood_texture_near"); }, "wood_texture_near");
   expect_error([] { synth::parse_category("structure_texture"); }, "needs a distance");
   expect_error([] { synth::parse_category("structure_texture_near", "far"); }, "contradicts");
-  expect_error([] { bivo::odometry::io::read_tum_trajectory("/nonexistent/trajectory.txt"); }, "/nonexistent/trajectory.txt");
+  expect_error([] { bivo::odometry::io::read_tum_trajectory("/nonexistent/trajectory.txt"); },
+               "/nonexistent/trajectory.txt");
 
   synth::SynthOptions o;
   o.category = synth::parse_category("structure_texture_near");
@@ -308,7 +312,8 @@ TEST(SynthSequence, CommandLineContract) {
 
   const auto fails_with = [&](const std::string& args, const std::string& needle) {
     const fs::path err = out / "stderr.txt";
-    const std::string cmd = bin + " synth " + args + " --output " + out.string() + " 2> " + err.string() + " >/dev/null";
+    const std::string cmd =
+        bin + " synth " + args + " --output " + out.string() + " 2> " + err.string() + " >/dev/null";
     EXPECT_NE(std::system(cmd.c_str()), 0) << cmd;
     std::ifstream in(err);
     const std::string text((std::istreambuf_iterator<char>(in)), {});

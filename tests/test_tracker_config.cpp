@@ -149,9 +149,8 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
 
 TEST(TrackerConfig, AbsentKeysKeepTheBaseAndNullClearsOptionals) {
   const TrackerOptions base = unusual_options();
-  const TrackerOptions o =
-      tracker_options_from_json(json::parse(R"({"levels": 2, "policy": {"eps": null}, "intrinsics": null, "distortion": null})"), "x",
-                                base);
+  const TrackerOptions o = tracker_options_from_json(
+      json::parse(R"({"levels": 2, "policy": {"eps": null}, "intrinsics": null, "distortion": null})"), "x", base);
   EXPECT_EQ(o.levels, 2);
   EXPECT_FALSE(o.policy.eps.has_value());
   EXPECT_FALSE(o.intrinsics.has_value());
@@ -172,7 +171,8 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
   EXPECT_NE(err(R"({"levels": "four"})").find("cfg.json: levels: must be an integer"), std::string::npos);
   EXPECT_NE(err(R"({"levels": 2.5})").find("cfg.json: levels: must be an integer, got 2.5"), std::string::npos);
   EXPECT_NE(err(R"({"levels": 0})").find("cfg.json: levels: 0 is outside [1, 8]"), std::string::npos);
-  EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json: max_frames: 4294967296 is outside [-1, 2147483647]"), std::string::npos);
+  EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json: max_frames: 4294967296 is outside [-1, 2147483647]"),
+            std::string::npos);
   EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("cfg.json: step_extrapolation: 0.9 is outside [1, 100]"),
             std::string::npos);
   EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json: policy.phi: -1 is outside (0, inf]"), std::string::npos);
@@ -180,7 +180,8 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
             std::string::npos);
   EXPECT_NE(err(R"({"initial_guess": "zero"})").find("cfg.json: initial_guess: "), std::string::npos);
   EXPECT_NE(err(R"({"method": "nonsense"})").find("cfg.json: "), std::string::npos);
-  EXPECT_NE(err(R"({"intrinsics": {"fx": 0, "fy": 1, "cx": 0, "cy": 0}})").find("cfg.json: intrinsics.fx: 0 is outside (0, inf)"),
+  EXPECT_NE(err(R"({"intrinsics": {"fx": 0, "fy": 1, "cx": 0, "cy": 0}})")
+                .find("cfg.json: intrinsics.fx: 0 is outside (0, inf)"),
             std::string::npos);
   EXPECT_NE(err(R"([1, 2])").find("cfg.json: must be a JSON object"), std::string::npos);
   EXPECT_NE(err(R"({"policy": 3})").find("cfg.json: policy: must be a JSON object, got number"), std::string::npos);

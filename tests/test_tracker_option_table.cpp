@@ -5,9 +5,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <set>
-#include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -145,8 +145,8 @@ TEST(TrackerOptionTable, KeysFlagsAndPythonNamesAreUniqueAndEveryFieldIsWritten)
 // A config {} names no method: a run from it alone is refused rather than run on a default.
 TEST_F(TrackerOptionSources, AConfigWithoutAMethodIsRefused) {
   std::ofstream(dir_ / "empty.json") << "{}";
-  const BivoRun r = bivo("run " + q(sequence_) + " --config " + q(dir_ / "empty.json") + " --output " +
-                         q(dir_ / "out.txt"));
+  const BivoRun r =
+      bivo("run " + q(sequence_) + " --config " + q(dir_ / "empty.json") + " --output " + q(dir_ / "out.txt"));
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(contains(r.err, "names no method")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "out.txt"));
@@ -167,8 +167,8 @@ TEST_F(TrackerOptionSources, EveryInvalidFlagIsRefusedWithTheMessageOfTheFile) {
       const std::string message = file_message.substr(std::string("cfg.json: ").size());
 
       const fs::path out = dir_ / "out.txt";
-      const BivoRun flag = bivo("run " + q(sequence_) + " --method " + method + " " + o.flag + " '" + bad.text +
-                                "' --output " + q(out));
+      const BivoRun flag =
+          bivo("run " + q(sequence_) + " --method " + method + " " + o.flag + " '" + bad.text + "' --output " + q(out));
       EXPECT_EQ(flag.status, 1) << o.flag << " " << bad.text << ": " << flag.err;
       EXPECT_TRUE(contains(flag.err, "bivo: error: " + o.flag + ": " + message + "\n"))
           << o.flag << " " << bad.text << ": " << flag.err << " vs " << message;
@@ -196,11 +196,17 @@ TEST_F(TrackerOptionSources, TheConfigurationOfAnAcceptedRunReplaysByteIdentical
       " --levels 3 --nu 4.5 --step-tolerance 2e-5 --decrease-tolerance 3e-4 --scale-tolerance 2e-3"
       " --scale-iterations 7 --min-valid-pixels 150 --occlusion-margin 0.07 --max-dt 0.03 --threads 1"
       " --initial-guess identity --max-iterations 15 --intrinsics '520 521 319 240' --distortion none";
-  const std::vector<std::string> methods = {
-      "single", "depth", "fixed --lambda 2e4", "tykkala", "weighted --phi 50",
-      "bounded --eps-min 2e-4 --eps-max 2e-3 --delta 0.03", "bounded --eps 5e-4 --backend ipm-compressed",
-      "joint --joint-tolerance 1e-4", "scaled --kappa 0.05", "noise-bounded --eps-ratio 0.7 --guard 100",
-      "weighted --weights huber --huber-k 1.5"};
+  const std::vector<std::string> methods = {"single",
+                                            "depth",
+                                            "fixed --lambda 2e4",
+                                            "tykkala",
+                                            "weighted --phi 50",
+                                            "bounded --eps-min 2e-4 --eps-max 2e-3 --delta 0.03",
+                                            "bounded --eps 5e-4 --backend ipm-compressed",
+                                            "joint --joint-tolerance 1e-4",
+                                            "scaled --kappa 0.05",
+                                            "noise-bounded --eps-ratio 0.7 --guard 100",
+                                            "weighted --weights huber --huber-k 1.5"};
   for (const std::string& m : methods) {
     const fs::path a = dir_ / "a.txt", b = dir_ / "b.txt";
     const BivoRun first = bivo("run " + q(sequence_) + " --method " + m + common + " --output " + q(a));
@@ -223,8 +229,8 @@ TEST_F(TrackerOptionSources, TheConfigurationOfAnAcceptedRunReplaysByteIdentical
 TEST_F(TrackerOptionSources, ADeepConfigIsRefusedNotACrash) {
   std::ofstream(dir_ / "deep.json") << "{\"method\": \"single\", \"policy\": {\"eps\": " << std::string(200000, '[')
                                     << std::string(200000, ']') << "}}";
-  const BivoRun deep = bivo("run " + q(sequence_) + " --config " + q(dir_ / "deep.json") + " --output " +
-                            q(dir_ / "out.txt"));
+  const BivoRun deep =
+      bivo("run " + q(sequence_) + " --config " + q(dir_ / "deep.json") + " --output " + q(dir_ / "out.txt"));
   EXPECT_EQ(deep.status, 1) << deep.err;
   EXPECT_TRUE(contains(deep.err, "deep.json: nested deeper than 16 levels")) << deep.err;
   EXPECT_FALSE(fs::exists(dir_ / "out.txt"));

@@ -5,16 +5,17 @@
 #include <iostream>
 #include <string>
 
-#include "experiments/conic_files/cbf_file.h"
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "experiments/conic_files/conic_file.h"
 #include "solvers/conic/ipm_solver.h"
 
 namespace bivo::experiments::cli {
 
 void add_conic_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("conic", "solve a conic program (orthant x SOC) from a JSON or CBF file with the own IPM");
+  auto* cmd =
+      app.add_subcommand("conic", "solve a conic program (orthant x SOC) from a JSON or CBF file with the own IPM");
   static std::string file, format = "auto";
   static solvers::conic::IpmSettings settings;
   static bool verbose = false, print_solution = false, no_polish = false;
@@ -41,8 +42,10 @@ void add_conic_command(CLI::App& app) {
   cmd->callback([] {
     const bool cbf = format == "cbf" || (format == "auto" && is_cbf_path(file));
     CbfProblem problem;
-    if (cbf) problem = read_cbf(file);
-    else problem.problem = read_conic_json(file);
+    if (cbf)
+      problem = read_cbf(file);
+    else
+      problem.problem = read_conic_json(file);
     if (verbose) settings.log = &std::cout;
     settings.polish = !no_polish;
     const solvers::conic::IpmResult r = solvers::conic::solve_conic(problem.problem, settings);

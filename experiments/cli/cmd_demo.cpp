@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
-#include "experiments/output_set.h"
 #include "experiments/demo.h"
+#include "experiments/output_set.h"
 
 namespace bivo::experiments::cli {
 

@@ -18,24 +18,21 @@ void add_eval_command(CLI::App& app) {
     double delta = 1.0, max_dt = 0.02;
   };
   auto opt = std::make_shared<Options>();
-  auto* cmd = app.add_subcommand(
-      "eval", "TUM relative pose error (RPE, 1-s windows) and absolute trajectory error (ATE)");
+  auto* cmd =
+      app.add_subcommand("eval", "TUM relative pose error (RPE, 1-s windows) and absolute trajectory error (ATE)");
   cmd->add_option("groundtruth", opt->groundtruth, "ground-truth TUM trajectory")->required();
   cmd->add_option("estimate", opt->estimate, "estimated TUM trajectory")->required();
   cmd->add_flag("--json", opt->json, "print the one line as a JSON object instead of key=value");
-  cmd->add_option("--output", opt->output,
-                  "also write every statistic and every RPE window to this JSON file");
+  cmd->add_option("--output", opt->output, "also write every statistic and every RPE window to this JSON file");
   cmd->add_option("--delta", opt->delta, "RPE window in seconds")->capture_default_str();
-  cmd->add_option("--max-dt", opt->max_dt, "timestamp matching tolerance in seconds")
-      ->capture_default_str();
-  cmd->footer(
-      "Prints one line: rpe_trans=<m/s> rpe_rot=<deg/s> ate=<m> pairs=<number of RPE windows>");
+  cmd->add_option("--max-dt", opt->max_dt, "timestamp matching tolerance in seconds")->capture_default_str();
+  cmd->footer("Prints one line: rpe_trans=<m/s> rpe_rot=<deg/s> ate=<m> pairs=<number of RPE windows>");
   cmd->callback([opt] {
-    check_output_files({{"--output", opt->output}},
-                       {{"groundtruth", opt->groundtruth}, {"estimate", opt->estimate}});
+    check_output_files({{"--output", opt->output}}, {{"groundtruth", opt->groundtruth}, {"estimate", opt->estimate}});
     const TrajectoryEvaluation e = evaluate_trajectory_files(opt->groundtruth, opt->estimate, opt->delta, opt->max_dt);
     if (!opt->output.empty()) {
-      odometry::io::write_file_atomically(opt->output, [&](std::ostream& o) { o << evaluation_json(e).dump(2) << "\n"; });
+      odometry::io::write_file_atomically(opt->output,
+                                          [&](std::ostream& o) { o << evaluation_json(e).dump(2) << "\n"; });
     }
     std::cout << evaluation_line(e, opt->json) << std::endl;
   });

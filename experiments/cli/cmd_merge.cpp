@@ -64,7 +64,8 @@ void add_merge_command(CLI::App& app) {
     std::cerr << "merge: " << collected.files << " result file(s) in " << results << ": "
               << completeness_text(collected);
     if (!complete(collected) && !a->partial) {
-      throw Error("merge: the results in '" + results + "' are incomplete (see above); re-run the missing shards, "
+      throw Error("merge: the results in '" + results +
+                  "' are incomplete (see above); re-run the missing shards, "
                   "or merge what is there with --partial");
     }
     std::map<std::string, nlohmann::json> by_unit;

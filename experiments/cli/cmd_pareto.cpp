@@ -47,8 +47,7 @@ StudyFactory add_pareto_flags(CLI::App* cmd) {
 }
 
 void add_pareto_command(CLI::App& app) {
-  add_study_command(app, "pareto",
-                    "Pareto fronts (F_I, F_D) of frame pairs by lambda and epsilon sweeps",
+  add_study_command(app, "pareto", "Pareto fronts (F_I, F_D) of frame pairs by lambda and epsilon sweeps",
                     add_pareto_flags);
 }
 

@@ -7,8 +7,8 @@
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/output_set.h"
-#include "experiments/tracker_config.h"
 #include "experiments/profile_study.h"
+#include "experiments/tracker_config.h"
 
 namespace bivo::experiments::cli {
 
@@ -16,12 +16,13 @@ void add_profile_command(CLI::App& app) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     ProfileOptions o;
-    std::vector<std::string> methods{"single:gn", "single:lm", "single:ceres", "weighted:gn", "bounded:exact",
-                                      "bounded:ipm-full", "bounded:ipm-compressed"};
+    std::vector<std::string> methods{"single:gn",     "single:lm",        "single:ceres",          "weighted:gn",
+                                     "bounded:exact", "bounded:ipm-full", "bounded:ipm-compressed"};
     std::string output;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("profile", "Time per phase, iterations per level and the QCQP/SOCP vs Gauss-Newton gap");
+  auto* cmd =
+      app.add_subcommand("profile", "Time per phase, iterations per level and the QCQP/SOCP vs Gauss-Newton gap");
   cmd->add_option("sequence", a->o.sequence_dir, "TUM sequence folder")->required();
   cmd->add_option("--methods", a->methods, "'method:backend' entries (single:gn is the reference)")
       ->capture_default_str();

@@ -60,8 +60,7 @@ StudyFactory add_report_flags(CLI::App* cmd) {
 }
 
 void add_report_command(CLI::App& app) {
-  add_study_command(app, "report",
-                    "One Markdown report: tables, per-frame errors, sweeps, Pareto fronts, runtimes",
+  add_study_command(app, "report", "One Markdown report: tables, per-frame errors, sweeps, Pareto fronts, runtimes",
                     add_report_flags);
 }
 

@@ -34,8 +34,9 @@ void add_run_command(CLI::App& app) {
                   "TUM sequence folder (rgb.txt + depth.txt or associations.txt; groundtruth.txt optional)")
       ->required();
   a->tracker = std::make_unique<TrackerFlags>(cmd, true);
-  auto* first = cmd->add_option("--first-frame", a->request.first_frame, "index of the first associated frame to process")
-                    ->capture_default_str();
+  auto* first =
+      cmd->add_option("--first-frame", a->request.first_frame, "index of the first associated frame to process")
+          ->capture_default_str();
   auto* max = cmd->add_option("--max-frames", a->request.max_frames, "process at most N frames (-1: all)")
                   ->capture_default_str();
   cmd->add_option("--output", a->output,

@@ -23,7 +23,8 @@ StudyFactory add_sweep_flags(CLI::App* cmd) {
   cmd->add_option("--sequences", a->o.sequences, "TUM sequence folders with groundtruth.txt")->required();
   cmd->add_option("--lambda-min", a->lambda_min, "smallest lambda [gray^2/m^2]")->capture_default_str();
   cmd->add_option("--lambda-max", a->lambda_max, "largest lambda")->capture_default_str();
-  cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: no lambda sweep)")->capture_default_str();
+  cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: no lambda sweep)")
+      ->capture_default_str();
   cmd->add_option("--eps-min", a->eps_min, "smallest bound on F_D per unit weight [m^2]")->capture_default_str();
   cmd->add_option("--eps-max", a->eps_max, "largest bound")->capture_default_str();
   cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: no epsilon sweep)")->capture_default_str();
@@ -46,8 +47,7 @@ StudyFactory add_sweep_flags(CLI::App* cmd) {
 }
 
 void add_sweep_command(CLI::App& app) {
-  add_study_command(app, "sweep",
-                    "Error vs lambda and epsilon, as ratios to the single-objective run (paper fig. 3)",
+  add_study_command(app, "sweep", "Error vs lambda and epsilon, as ratios to the single-objective run (paper fig. 3)",
                     add_sweep_flags);
 }
 

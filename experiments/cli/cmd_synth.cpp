@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "experiments/cli/commands.h"
-#include "odometry/synth/benchmark_set.h"
 #include "experiments/output_set.h"
+#include "odometry/io/trajectory.h"
+#include "odometry/synth/benchmark_set.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/synth/stress_set.h"
-#include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {
@@ -29,15 +29,38 @@ struct SynthArgs {
 };
 
 // Options that would change a benchmark rendering: refused with --benchmark-set.
-const char* const kPerSequenceOptions[] = {"--distance", "--trajectory", "--frames", "--seed", "--name",
-                                           "--start", "--fps", "--supersampling", "--depth-noise",
-                                           "--disparity-step", "--max-range", "--read-noise", "--shot-noise",
-                                           "--exposure-jitter", "--speed", "--angular-speed", "--no-noise",
-                                           "--depth-bias-radial", "--depth-bias-lowfreq", "--depth-bias-wavelength",
+const char* const kPerSequenceOptions[] = {"--distance",
+                                           "--trajectory",
+                                           "--frames",
+                                           "--seed",
+                                           "--name",
+                                           "--start",
+                                           "--fps",
+                                           "--supersampling",
+                                           "--depth-noise",
+                                           "--disparity-step",
+                                           "--max-range",
+                                           "--read-noise",
+                                           "--shot-noise",
+                                           "--exposure-jitter",
+                                           "--speed",
+                                           "--angular-speed",
+                                           "--no-noise",
+                                           "--depth-bias-radial",
+                                           "--depth-bias-lowfreq",
+                                           "--depth-bias-wavelength",
                                            "--depth-offset",
-                                           "--depth-rotation", "--depth-delay", "--readout", "--exposure",
-                                           "--blur-samples", "--gain-step", "--vignetting", "--time-scale",
-                                           "--wall-behind", "--view-distance", "--view-pitch",
+                                           "--depth-rotation",
+                                           "--depth-delay",
+                                           "--readout",
+                                           "--exposure",
+                                           "--blur-samples",
+                                           "--gain-step",
+                                           "--vignetting",
+                                           "--time-scale",
+                                           "--wall-behind",
+                                           "--view-distance",
+                                           "--view-pitch",
                                            "--static-depth-noise"};
 
 void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allow_frames) {
@@ -52,8 +75,9 @@ void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allo
 void run_stress_set(const SynthArgs& a, const CLI::App& cmd) {
   refuse_per_sequence_options(cmd, "--stress-set", true);
   if (a.trajectories.empty()) {
-    throw Error("synth: --stress-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
-                "../shared/data/trajectories)");
+    throw Error(
+        "synth: --stress-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
+        "../shared/data/trajectories)");
   }
   const int frames = cmd.get_option("--frames")->count() > 0 ? a.options.frames : odometry::synth::kStressFrames;
   for (const std::string& dir :
@@ -72,8 +96,9 @@ Eigen::Vector3d vector3(const std::vector<double>& v, const char* flag) {
 void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
   refuse_per_sequence_options(cmd, "--benchmark-set", false);
   if (a.trajectories.empty()) {
-    throw Error("synth: --benchmark-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
-                "../shared/data/trajectories)");
+    throw Error(
+        "synth: --benchmark-set needs --trajectories DIR (the TUM *-groundtruth.txt files, e.g. "
+        "../shared/data/trajectories)");
   }
   const auto t0 = std::chrono::steady_clock::now();
   for (const std::string& dir :
@@ -134,8 +159,9 @@ void add_synth_command(CLI::App& app) {
                 "render the stress set: 8 sequences with real sensor defects (biased, misregistered, "
                 "unsynchronized depth, rolling shutter, blur, gain, vignetting, far background, fast motion); "
                 "needs --trajectories; --frames shortens it, --category renders the names containing it");
-  cmd->add_option("--trajectories", args->trajectories,
-                  "--benchmark-set / --stress-set: folder with the TUM *-groundtruth.txt files (../shared/data/trajectories)")
+  cmd->add_option(
+         "--trajectories", args->trajectories,
+         "--benchmark-set / --stress-set: folder with the TUM *-groundtruth.txt files (../shared/data/trajectories)")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--trajectory", args->trajectory,
                   "TUM ground-truth trajectory to follow (re-anchored rigidly); default: generated hand-held motion")
@@ -163,8 +189,7 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--speed", o.handheld.mean_linear_speed_mps, "generated motion: mean linear speed [m/s]")
       ->capture_default_str();
-  cmd->add_option("--angular-speed", o.handheld.mean_angular_speed_dps,
-                  "generated motion: mean angular speed [deg/s]")
+  cmd->add_option("--angular-speed", o.handheld.mean_angular_speed_dps, "generated motion: mean angular speed [deg/s]")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "render threads (0 = one per hardware thread)")->capture_default_str();
   cmd->add_flag("--no-noise", args->no_noise, "no random sensor noise and no disparity quantization");
@@ -175,10 +200,8 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--depth-offset", args->depth_offset, "depth camera offset from the colour camera: x y z [m]")
       ->expected(3);
-  cmd->add_option("--depth-rotation", args->depth_rotation, "depth camera rotation vector: x y z [rad]")
-      ->expected(3);
-  cmd->add_option("--depth-delay", args->depth_delay, "depth taken U(min, max) s after colour: min max")
-      ->expected(2);
+  cmd->add_option("--depth-rotation", args->depth_rotation, "depth camera rotation vector: x y z [rad]")->expected(3);
+  cmd->add_option("--depth-delay", args->depth_delay, "depth taken U(min, max) s after colour: min max")->expected(2);
   cmd->add_option("--readout", d.readout_s, "rolling-shutter readout time [s] (0 = global shutter)");
   cmd->add_option("--exposure", d.exposure_s, "exposure time for motion blur [s] (0 = none)");
   cmd->add_option("--blur-samples", d.blur_samples, "poses sampled within the exposure")->capture_default_str();

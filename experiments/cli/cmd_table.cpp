@@ -6,8 +6,8 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
-#include "experiments/output_set.h"
 #include "experiments/method_matrix.h"
+#include "experiments/output_set.h"
 #include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
@@ -49,8 +49,7 @@ StudyFactory add_table_flags(CLI::App* cmd) {
 }
 
 void add_table_command(CLI::App& app) {
-  add_study_command(app, "table",
-                    "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)",
+  add_study_command(app, "table", "Methods x sequences: RPE/ATE tables (paper tables 1/2) and runtimes (table 3)",
                     add_table_flags);
 }
 

@@ -17,7 +17,8 @@ void add_work_command(CLI::App& app) {
   auto a = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("work", "Run one shard of a study planned by `bivo plan` (one result file per unit)");
   cmd->add_option("study", a->study, "study file written by `bivo plan`")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--shard", a->shard, "I/N: the I-th (from 0) of N disjoint slices of the units")->capture_default_str();
+  cmd->add_option("--shard", a->shard, "I/N: the I-th (from 0) of N disjoint slices of the units")
+      ->capture_default_str();
   cmd->add_option("--results", a->results, "folder of the result files (default: the study's name + .results)");
   add_keep_going_flag(cmd, a->keep_going);
   cmd->callback([a] {

@@ -5,8 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "experiments/conic_files/cbf_file.h"
 #include "experiments/cli/commands.h"
+#include "experiments/conic_files/cbf_file.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"
 

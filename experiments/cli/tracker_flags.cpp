@@ -38,10 +38,10 @@ std::string help_of(const TrackerOption& o) {
   std::string help = o.method.empty() ? o.help : "method " + o.method + ": " + o.help;
   if (o.key == "method") return help + " (required unless --config names one)";
   const nlohmann::json d = o.get(TrackerOptions{});
-  const std::string shown = d.is_null()      ? "none"
-                            : d.is_string()  ? (d.get<std::string>().empty() ? "\"\"" : d.get<std::string>())
+  const std::string shown = d.is_null()           ? "none"
+                            : d.is_string()       ? (d.get<std::string>().empty() ? "\"\"" : d.get<std::string>())
                             : d.is_number_float() ? format_option_number(d.get<double>())
-                                             : d.dump();
+                                                  : d.dump();
   switch (o.type) {
     case OptionType::kNumber:
     case OptionType::kInteger:
@@ -91,8 +91,7 @@ TrackerOptions TrackerFlags::options() const {
     }
     const odometry::Method method = odometry::parse_method(o.method);
     for (const auto& f : flags_) {
-      if (f.cli->count() > 0 && !f.option->method.empty() &&
-          method != odometry::parse_method(f.option->method)) {
+      if (f.cli->count() > 0 && !f.option->method.empty() && method != odometry::parse_method(f.option->method)) {
         throw Error(f.option->flag + " applies to method '" + f.option->method + "' only (method is '" + o.method +
                     "')");
       }

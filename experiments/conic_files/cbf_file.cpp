@@ -114,7 +114,8 @@ std::vector<ConeBlock> read_cones(LineReader& r, const std::string& block, int& 
     cones.push_back({kind, dim});
   }
   if (sum != total) {
-    r.fail(block + ": cone dimensions sum to " + std::to_string(sum) + ", the header declares " + std::to_string(total));
+    r.fail(block + ": cone dimensions sum to " + std::to_string(sum) + ", the header declares " +
+           std::to_string(total));
   }
   return cones;
 }
@@ -211,11 +212,20 @@ struct RowSelection {
     const double r = std::sqrt(0.5);
     for (int k = 0; k < block.dim; ++k) {
       switch (block.kind) {
-        case Cone::kFree: break;
-        case Cone::kZero: eq.emplace_back(eq_rows++, src + k, 1.0); break;
-        case Cone::kNonnegative: cone.emplace_back(orthant_rows++, src + k, 1.0); break;
-        case Cone::kNonpositive: cone.emplace_back(orthant_rows++, src + k, -1.0); break;
-        case Cone::kQuadratic: soc_rows.emplace_back(soc_row_count + k, src + k, 1.0); break;
+        case Cone::kFree:
+          break;
+        case Cone::kZero:
+          eq.emplace_back(eq_rows++, src + k, 1.0);
+          break;
+        case Cone::kNonnegative:
+          cone.emplace_back(orthant_rows++, src + k, 1.0);
+          break;
+        case Cone::kNonpositive:
+          cone.emplace_back(orthant_rows++, src + k, -1.0);
+          break;
+        case Cone::kQuadratic:
+          soc_rows.emplace_back(soc_row_count + k, src + k, 1.0);
+          break;
         case Cone::kRotated:
           if (k == 0) {  // (u + v)/sqrt 2, (u - v)/sqrt 2
             soc_rows.emplace_back(soc_row_count, src, r);

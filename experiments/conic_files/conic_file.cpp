@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -24,13 +24,16 @@ using json = nlohmann::json;
 // the file holds (a dump of a deeply nested value would also recurse once per level).
 std::string describe(const json& v) {
   switch (v.type()) {
-    case json::value_t::array: return "an array of " + std::to_string(v.size()) + " entries";
-    case json::value_t::object: return "an object of " + std::to_string(v.size()) + " keys";
+    case json::value_t::array:
+      return "an array of " + std::to_string(v.size()) + " entries";
+    case json::value_t::object:
+      return "an object of " + std::to_string(v.size()) + " keys";
     case json::value_t::string: {
       const auto& text = v.get_ref<const std::string&>();
       return "the string \"" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "\"";
     }
-    default: return v.dump();  // number, boolean, null: a few characters
+    default:
+      return v.dump();  // number, boolean, null: a few characters
   }
 }
 
@@ -180,7 +183,8 @@ std::string conic_result_text(const solvers::conic::IpmResult& r, bool solution)
   line("objective: %.12g (dual %.12g)\n", r.primal_objective, r.dual_objective);
   line("residuals: primal %.3e dual %.3e gap %.3e objective gap %.3e\n", r.primal_residual, r.dual_residual, r.gap,
        r.objective_gap);
-  if (r.infinite_rows > 0) line("infinite bounds: %d rows removed before the solve (z = 0, s = h - G x there)\n", r.infinite_rows);
+  if (r.infinite_rows > 0)
+    line("infinite bounds: %d rows removed before the solve (z = 0, s = h - G x there)\n", r.infinite_rows);
   if (r.polished) {
     line("iterations: %d, then polished (%d Newton steps on the active set)\n", r.iterations, r.polish_newton_steps);
   } else {

@@ -35,22 +35,24 @@ json parts_json(const Study& s) {
   j["kind"] = s.kind;
   j["tracker"] = tracker_options_to_json(s.tracker);
   if (s.table) {
-    j["table"] = {{"sequences", s.table->sequences}, {"methods", methods_json(s.table->methods)},
-                  {"first_frame", s.table->first_frame}, {"max_frames", s.table->max_frames}};
+    j["table"] = {{"sequences", s.table->sequences},
+                  {"methods", methods_json(s.table->methods)},
+                  {"first_frame", s.table->first_frame},
+                  {"max_frames", s.table->max_frames}};
     // Written only when not the default, so the hashes of studies planned before stay valid.
     if (s.table->rpe_delta != 1.0) j["table"]["rpe_delta"] = s.table->rpe_delta;
   }
   if (s.sweep) {
-    j["sweep"] = {{"sequences", s.sweep->sequences},           {"lambdas", s.sweep->lambdas},
-                  {"epsilons", s.sweep->epsilons},             {"epsilon_backend", s.sweep->epsilon_backend},
-                  {"first_frame", s.sweep->first_frame},       {"max_frames", s.sweep->max_frames}};
+    j["sweep"] = {{"sequences", s.sweep->sequences},     {"lambdas", s.sweep->lambdas},
+                  {"epsilons", s.sweep->epsilons},       {"epsilon_backend", s.sweep->epsilon_backend},
+                  {"first_frame", s.sweep->first_frame}, {"max_frames", s.sweep->max_frames}};
     if (s.sweep->rpe_delta != 1.0) j["sweep"]["rpe_delta"] = s.sweep->rpe_delta;
   }
   if (s.pareto) {
     const auto& o = s.pareto->options;
     json pairs = json::array();
     for (const auto& p : s.pareto->pairs) pairs.push_back({{"sequence", p.sequence_dir}, {"pair", p.pair}});
-    j["pareto"] = {{"level", o.level},           {"points", o.points}, {"lambda_min", o.lambda_min},
+    j["pareto"] = {{"level", o.level},           {"points", o.points},   {"lambda_min", o.lambda_min},
                    {"lambda_max", o.lambda_max}, {"methods", o.methods}, {"pairs", pairs}};
     if (!o.backend.empty()) j["pareto"]["backend"] = o.backend;  // absent: the default, as planned before
   }
@@ -60,8 +62,10 @@ json parts_json(const Study& s) {
 // A unit id component: what the file system and a shell accept unquoted.
 std::string token(const std::string& text) {
   std::string out;
-  for (char c : text) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_' ||
-                              c == '=' || c == '+') ? c : '_';
+  for (char c : text)
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_' || c == '=' || c == '+')
+               ? c
+               : '_';
   return out;
 }
 
@@ -217,9 +221,9 @@ std::string study_hash(const Study& study) {
   // Threads of the per-pixel passes change no result (where the tracker has them): shards
   // may run with other thread counts than planned and still merge.
   if (parts["tracker"].contains("problem")) parts["tracker"]["problem"].erase("threads");
-  parts["tracker"].erase("load_threads");  // nor do the frame loader's
-  const std::string text = parts.dump();  // keys sorted: canonical
-  std::uint64_t h = 14695981039346656037ull;          // FNV-1a 64
+  parts["tracker"].erase("load_threads");     // nor do the frame loader's
+  const std::string text = parts.dump();      // keys sorted: canonical
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64
   for (unsigned char c : text) {
     h ^= c;
     h *= 1099511628211ull;
@@ -269,10 +273,13 @@ std::vector<StudyUnit> study_units(const Study& s) {
     const std::vector<SweepUnit> su = sweep_units(o);
     for (size_t k = 0; k < su.size(); ++k) {
       const auto& u = su[k];
-      const int n = u.parameter == "lambda" ? int(std::find(o.lambdas.begin(), o.lambdas.end(), u.value) - o.lambdas.begin())
-                                            : int(std::find(o.epsilons.begin(), o.epsilons.end(), u.value) - o.epsilons.begin());
-      std::string what = u.parameter == "single" ? "single" : u.parameter + "-" + std::to_string(n) + "=" + number_text(u.value);
-      add("sweep", int(k), std::to_string(u.sequence) + "-" + token(sequence_label(o.sequences[u.sequence])) + "/" + token(what));
+      const int n = u.parameter == "lambda"
+                        ? int(std::find(o.lambdas.begin(), o.lambdas.end(), u.value) - o.lambdas.begin())
+                        : int(std::find(o.epsilons.begin(), o.epsilons.end(), u.value) - o.epsilons.begin());
+      std::string what =
+          u.parameter == "single" ? "single" : u.parameter + "-" + std::to_string(n) + "=" + number_text(u.value);
+      add("sweep", int(k),
+          std::to_string(u.sequence) + "-" + token(sequence_label(o.sequences[u.sequence])) + "/" + token(what));
     }
   }
   if (s.pareto) {

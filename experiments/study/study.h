@@ -55,7 +55,7 @@ struct Study {
   std::string output;  // the folder `bivo merge` writes (absolute)
   // Seeds the order in which units are dealt to shards; results never depend on it.
   std::uint64_t seed = 1;
-  bool plots = true;   // pareto, report: PNGs beside the JSON
+  bool plots = true;  // pareto, report: PNGs beside the JSON
   // The tracker every run starts from (methods, grids and levels override per unit). The
   // parts' own `tracker` fields are not stored: study_units() and run_unit() use this one.
   odometry::TrackerOptions tracker;

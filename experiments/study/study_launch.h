@@ -16,16 +16,16 @@ struct LaunchOptions {
   std::string study_path;   // absolute
   std::string results_dir;  // absolute
   int shards = 1;
-  int threads = 1;          // CPUs of one shard (Slurm --cpus-per-task)
+  int threads = 1;  // CPUs of one shard (Slurm --cpus-per-task)
   // Slurm
-  int throttle = 0;                      // at most this many array tasks at once (0: no limit)
+  int throttle = 0;  // at most this many array tasks at once (0: no limit)
   std::string job_name = "bivo";
   std::string partition, time_limit;     // empty: the cluster's defaults
   std::vector<std::string> sbatch_args;  // more #SBATCH options, e.g. "--mem=4G"
   std::string log_dir;                   // absolute; %x-%A_%a.out per task
   // GNU Parallel
-  int jobs = 0;                          // shards at once per host (0: one per CPU core)
-  std::vector<std::string> sshlogins;    // e.g. "8/node1", ":" (this machine)
+  int jobs = 0;                        // shards at once per host (0: one per CPU core)
+  std::vector<std::string> sshlogins;  // e.g. "8/node1", ":" (this machine)
 };
 
 // 'text' quoted for a POSIX shell (unquoted when it needs no quoting).

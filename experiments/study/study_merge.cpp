@@ -84,7 +84,8 @@ struct MergedPareto {
   ParetoOutcome outcome;
   bool missing = false;
 };
-std::vector<MergedPareto> merged_pareto(const std::vector<StudyUnit>& units, const std::map<std::string, json>& results) {
+std::vector<MergedPareto> merged_pareto(const std::vector<StudyUnit>& units,
+                                        const std::map<std::string, json>& results) {
   std::vector<MergedPareto> out;
   for (const StudyUnit& u : units) {
     if (u.part != "pareto") continue;
@@ -115,7 +116,8 @@ CollectedResults collect_results(const Study& study, const std::string& dir) {
   for (const std::string& path : paths) {
     UnitResultFile f = read_unit_result(path);
     check_unit_result(f, hash);
-    if (!ids.count(f.unit)) throw Error("result file '" + path + "' holds unit '" + f.unit + "', which the study does not have");
+    if (!ids.count(f.unit))
+      throw Error("result file '" + path + "' holds unit '" + f.unit + "', which the study does not have");
     ++out.files;
     out.versions.insert(f.bivo_version);
     auto& dups = out.duplicated[f.unit];

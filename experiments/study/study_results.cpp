@@ -94,10 +94,18 @@ std::optional<odometry::io::PoseError> pose_error_from(const json& j) {
 }
 
 json level(const odometry::LevelResult& l) {
-  return {{"level", l.level},   {"terms", l.terms},       {"valid_intensity", l.valid_intensity},
-          {"valid_depth", l.valid_depth}, {"iterations", l.iterations}, {"skipped", l.skipped},
-          {"f_i", num(l.f_i)},  {"f_d", num(l.f_d)},      {"lambda", num(l.lambda)},
-          {"epsilon", num(l.epsilon)}, {"mu", num(l.mu)}, {"termination", l.termination}};
+  return {{"level", l.level},
+          {"terms", l.terms},
+          {"valid_intensity", l.valid_intensity},
+          {"valid_depth", l.valid_depth},
+          {"iterations", l.iterations},
+          {"skipped", l.skipped},
+          {"f_i", num(l.f_i)},
+          {"f_d", num(l.f_d)},
+          {"lambda", num(l.lambda)},
+          {"epsilon", num(l.epsilon)},
+          {"mu", num(l.mu)},
+          {"termination", l.termination}};
 }
 odometry::LevelResult level_from(const json& j) {
   odometry::LevelResult l;
@@ -172,10 +180,17 @@ json run(const RunOutcome& r) {
     const double to = r.trajectory.empty() ? INFINITY : r.trajectory.back().timestamp + 1.0;
     gt = trajectory(*r.groundtruth, from, to);
   }
-  return {{"sequence", r.sequence},   {"method", r.method},          {"backend", r.backend},
-          {"trajectory", trajectory(r.trajectory)}, {"groundtruth", gt}, {"pairs", pairs},
-          {"profile", profile(r.profile)}, {"failures", r.failures}, {"median_ms", num(r.median_ms)},
-          {"mean_ms", num(r.mean_ms)}, {"load_seconds", num(r.load_seconds)}};
+  return {{"sequence", r.sequence},
+          {"method", r.method},
+          {"backend", r.backend},
+          {"trajectory", trajectory(r.trajectory)},
+          {"groundtruth", gt},
+          {"pairs", pairs},
+          {"profile", profile(r.profile)},
+          {"failures", r.failures},
+          {"median_ms", num(r.median_ms)},
+          {"mean_ms", num(r.mean_ms)},
+          {"load_seconds", num(r.load_seconds)}};
 }
 RunOutcome run_from(const json& j) {
   RunOutcome r;
@@ -198,9 +213,14 @@ json rpe(const odometry::io::RpeResult& r) {
   for (const auto& w : r.pairs) {
     windows.push_back({num(w.t_est_0), num(w.t_est_1), num(w.t_gt_0), num(w.t_gt_1), num(w.trans), num(w.rot_rad)});
   }
-  return {{"windows", windows},          {"trans_rmse", num(r.trans_rmse)},     {"trans_mean", num(r.trans_mean)},
-          {"trans_median", num(r.trans_median)}, {"trans_max", num(r.trans_max)}, {"rot_rmse_deg", num(r.rot_rmse_deg)},
-          {"rot_mean_deg", num(r.rot_mean_deg)}, {"rot_max_deg", num(r.rot_max_deg)}};
+  return {{"windows", windows},
+          {"trans_rmse", num(r.trans_rmse)},
+          {"trans_mean", num(r.trans_mean)},
+          {"trans_median", num(r.trans_median)},
+          {"trans_max", num(r.trans_max)},
+          {"rot_rmse_deg", num(r.rot_rmse_deg)},
+          {"rot_mean_deg", num(r.rot_mean_deg)},
+          {"rot_max_deg", num(r.rot_max_deg)}};
 }
 odometry::io::RpeResult rpe_from(const json& j) {
   odometry::io::RpeResult r;
@@ -218,9 +238,9 @@ odometry::io::RpeResult rpe_from(const json& j) {
 }
 
 json ate(const odometry::io::AteResult& a) {
-  return {{"t_est", nums(a.t_est)}, {"t_gt", nums(a.t_gt)}, {"errors", nums(a.errors)},
-          {"alignment", pose(a.alignment)}, {"rmse", num(a.rmse)}, {"mean", num(a.mean)},
-          {"median", num(a.median)}, {"max", num(a.max)}};
+  return {{"t_est", nums(a.t_est)},         {"t_gt", nums(a.t_gt)}, {"errors", nums(a.errors)},
+          {"alignment", pose(a.alignment)}, {"rmse", num(a.rmse)},  {"mean", num(a.mean)},
+          {"median", num(a.median)},        {"max", num(a.max)}};
 }
 odometry::io::AteResult ate_from(const json& j) {
   odometry::io::AteResult a;
@@ -236,7 +256,7 @@ odometry::io::AteResult ate_from(const json& j) {
 }
 
 json point(const StudyPoint& p) {
-  return {{"f_i", num(p.f_i)}, {"f_d", num(p.f_d)}, {"parameter", num(p.parameter)},
+  return {{"f_i", num(p.f_i)},  {"f_d", num(p.f_d)},    {"parameter", num(p.parameter)},
           {"method", p.method}, {"T_21", pose(p.T_21)}, {"error", pose_error(p.error)}};
 }
 StudyPoint point_from(const json& j) {
@@ -288,9 +308,15 @@ MatrixCell matrix_cell_from_json(const json& j) {
 }
 
 json sweep_run_to_json(const SweepRun& r) {
-  return {{"sequence_index", r.unit.sequence}, {"parameter", r.unit.parameter}, {"value", num(r.unit.value)},
-          {"sequence", r.sequence},          {"ok", r.ok},                  {"rpe_trans", num(r.rpe_trans)},
-          {"max_err", num(r.max_err)},       {"median_ms", num(r.median_ms)}, {"failures", r.failures},
+  return {{"sequence_index", r.unit.sequence},
+          {"parameter", r.unit.parameter},
+          {"value", num(r.unit.value)},
+          {"sequence", r.sequence},
+          {"ok", r.ok},
+          {"rpe_trans", num(r.rpe_trans)},
+          {"max_err", num(r.max_err)},
+          {"median_ms", num(r.median_ms)},
+          {"failures", r.failures},
           {"error", r.error}};
 }
 
@@ -311,11 +337,16 @@ json pareto_outcome_to_json(const ParetoOutcome& o) {
   json study = nullptr;
   if (o.study) {
     const ParetoStudy& s = *o.study;
-    study = {{"sequence", s.sequence},          {"pair", s.pair},
-             {"level", s.level},                {"t_reference", num(s.t_reference)},
-             {"t_current", num(s.t_current)},   {"lambda_front", points(s.lambda_front)},
-             {"epsilon_front", points(s.epsilon_front)}, {"methods", points(s.methods)},
-             {"knee", s.knee ? point(*s.knee) : json(nullptr)}, {"seconds", num(s.seconds)}};
+    study = {{"sequence", s.sequence},
+             {"pair", s.pair},
+             {"level", s.level},
+             {"t_reference", num(s.t_reference)},
+             {"t_current", num(s.t_current)},
+             {"lambda_front", points(s.lambda_front)},
+             {"epsilon_front", points(s.epsilon_front)},
+             {"methods", points(s.methods)},
+             {"knee", s.knee ? point(*s.knee) : json(nullptr)},
+             {"seconds", num(s.seconds)}};
   }
   return {{"study", study}, {"error", o.error}};
 }

@@ -126,9 +126,15 @@ void check_unit_result(const UnitResultFile& file, const std::string& study_hash
 
 void write_unit_result(const std::string& path, const std::string& study_hash, const StudyUnit& unit,
                        const json& result, double seconds) {
-  const json j = {{"format", "bivo-unit-result"}, {"version", 1},       {"study_hash", study_hash},
-                  {"unit", unit.id},              {"bivo_version", bivo_version()}, {"host", host_name()},
-                  {"finished", now_utc()},        {"seconds", seconds}, {"result", result}};
+  const json j = {{"format", "bivo-unit-result"},
+                  {"version", 1},
+                  {"study_hash", study_hash},
+                  {"unit", unit.id},
+                  {"bivo_version", bivo_version()},
+                  {"host", host_name()},
+                  {"finished", now_utc()},
+                  {"seconds", seconds},
+                  {"result", result}};
   const std::string text = j.dump() + "\n";
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }
@@ -178,7 +184,8 @@ WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_unit_result(path, hash, unit, result, seconds);
     ++summary.ran;
-    if (const std::string why = unit_failure(unit, result); !why.empty()) summary.failed.push_back(unit.id + ": " + why);
+    if (const std::string why = unit_failure(unit, result); !why.empty())
+      summary.failed.push_back(unit.id + ": " + why);
     log << "work: [" << k << "/" << units.size() << "] " << unit.id << " " << std::fixed << std::setprecision(1)
         << seconds << " s" << std::defaultfloat << std::endl;
   }

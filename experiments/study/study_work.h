@@ -52,9 +52,9 @@ void write_unit_result(const std::string& path, const std::string& study_hash, c
                        const nlohmann::json& result, double seconds);
 
 struct WorkSummary {
-  int units = 0;    // in the shard
-  int ran = 0;      // run now
-  int skipped = 0;  // finished earlier (resume)
+  int units = 0;                    // in the shard
+  int ran = 0;                      // run now
+  int skipped = 0;                  // finished earlier (resume)
   std::vector<std::string> failed;  // "unit id: why" of the units run now that produced no result
 };
 

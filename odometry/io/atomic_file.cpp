@@ -17,13 +17,20 @@ namespace fs = std::filesystem;
 
 const char* kind_of(fs::file_type type) {
   switch (type) {
-    case fs::file_type::symlink: return "a symbolic link";
-    case fs::file_type::directory: return "a folder";
-    case fs::file_type::fifo: return "a FIFO";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::socket: return "a socket";
-    default: return "not a regular file";
+    case fs::file_type::symlink:
+      return "a symbolic link";
+    case fs::file_type::directory:
+      return "a folder";
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
   }
 }
 
@@ -36,8 +43,8 @@ void write_new_file(const std::string& path, const std::string& target, const st
   if (!file) {
     throw Error("cannot write '" + target + "': " + std::strerror(errno) + " (folder missing or not writable?)");
   }
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size() &&
-                  std::fflush(file.get()) == 0;
+  const bool ok =
+      std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size() && std::fflush(file.get()) == 0;
   const bool closed = std::fclose(file.release()) == 0;
   if (!ok || !closed) {
     std::remove(path.c_str());

@@ -25,8 +25,7 @@ void check_image_size(std::int64_t width, std::int64_t height, const std::string
 void check_list_size(std::int64_t entries, const std::string& what) {
   const std::int64_t limit = input_limits().max_list_entries;
   if (entries > limit) {
-    throw Error(what + ": more than " + std::to_string(limit) +
-                " entries (the limit; raise with --max-list-entries)");
+    throw Error(what + ": more than " + std::to_string(limit) + " entries (the limit; raise with --max-list-entries)");
   }
 }
 

@@ -79,9 +79,9 @@ std::array<double, 2> Undistortion::source(int u, int v) const {
 
 void Undistortion::apply(RgbdImage& image) const {
   if (image.width != width_ || image.height != height_) {
-    throw Error("undistortion: frame at t = " + std::to_string(image.timestamp) + " is " +
-                std::to_string(image.width) + "x" + std::to_string(image.height) + ", the map was built for " +
-                std::to_string(width_) + "x" + std::to_string(height_));
+    throw Error("undistortion: frame at t = " + std::to_string(image.timestamp) + " is " + std::to_string(image.width) +
+                "x" + std::to_string(image.height) + ", the map was built for " + std::to_string(width_) + "x" +
+                std::to_string(height_));
   }
   if (identity_) return;
   const std::size_t n = cell_.size();

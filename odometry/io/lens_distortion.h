@@ -63,7 +63,7 @@ class Undistortion {
   // Per output pixel: the top-left input pixel of the bilinear cell and the fractions.
   std::vector<std::int32_t> cell_;
   std::vector<float> fu_, fv_;
-  std::vector<std::int32_t> nearest_;  // -1: outside the input (depth missing)
+  std::vector<std::int32_t> nearest_;                         // -1: outside the input (depth missing)
   mutable std::vector<float> spare_intensity_, spare_depth_;  // see apply()
 };
 

@@ -63,12 +63,11 @@ std::string range_text(const Trajectory& t) {
 
 }  // namespace
 
-RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& estimate,
-                              const RpeOptions& options) {
+RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& estimate, const RpeOptions& options) {
   if (groundtruth.empty() || estimate.empty()) throw Error("relative_pose_error: empty trajectory");
   if (!(options.delta_s > 0) || !(options.max_dt >= 0)) {
-    throw Error("relative_pose_error: delta must be > 0 and max_dt >= 0 (got delta=" +
-                std::to_string(options.delta_s) + ", max_dt=" + std::to_string(options.max_dt) + ")");
+    throw Error("relative_pose_error: delta must be > 0 and max_dt >= 0 (got delta=" + std::to_string(options.delta_s) +
+                ", max_dt=" + std::to_string(options.max_dt) + ")");
   }
   const std::vector<double> gt_stamps = stamps_of(groundtruth);
   const std::vector<double> est_stamps = stamps_of(estimate);
@@ -104,8 +103,8 @@ RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& e
   }
   if (result.pairs.size() < 2) {
     throw Error("relative_pose_error: fewer than 2 windows of " + std::to_string(options.delta_s) +
-                " s match the ground truth within " + std::to_string(options.max_dt) +
-                " s (estimate " + range_text(estimate) + ", ground truth " + range_text(groundtruth) +
+                " s match the ground truth within " + std::to_string(options.max_dt) + " s (estimate " +
+                range_text(estimate) + ", ground truth " + range_text(groundtruth) +
                 "); do the timestamps overlap and is the estimate longer than one window?");
   }
   std::vector<double> trans, rot_deg;
@@ -133,8 +132,8 @@ AteResult absolute_trajectory_error(const Trajectory& groundtruth, const Traject
     // Three non-collinear points fix a rigid alignment; with fewer the error is meaningless.
     throw Error("absolute_trajectory_error: only " + std::to_string(matches.size()) +
                 " estimate poses match a ground-truth stamp within " + std::to_string(options.max_dt) +
-                " s (estimate " + range_text(estimate) + ", ground truth " +
-                range_text(groundtruth) + "); need at least 3 — do the timestamps overlap?");
+                " s (estimate " + range_text(estimate) + ", ground truth " + range_text(groundtruth) +
+                "); need at least 3 — do the timestamps overlap?");
   }
   const int m = int(matches.size());
   Eigen::Matrix3Xd est(3, m), gt(3, m);

@@ -49,8 +49,8 @@ struct AteOptions {
 };
 
 struct AteResult {
-  std::vector<double> t_est, t_gt;    // matched stamps, sorted by t_gt
-  std::vector<double> errors;         // per match: |R p_est + t - p_gt| in metres
+  std::vector<double> t_est, t_gt;                              // matched stamps, sorted by t_gt
+  std::vector<double> errors;                                   // per match: |R p_est + t - p_gt| in metres
   Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();  // maps estimate into gt frame
   double rmse = 0, mean = 0, median = 0, max = 0;
 };

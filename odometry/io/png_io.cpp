@@ -40,12 +40,18 @@ using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
 std::string colour_type_name(int colour_type) {
   switch (colour_type) {
-    case PNG_COLOR_TYPE_GRAY: return "gray";
-    case PNG_COLOR_TYPE_GRAY_ALPHA: return "gray+alpha";
-    case PNG_COLOR_TYPE_RGB: return "RGB";
-    case PNG_COLOR_TYPE_RGB_ALPHA: return "RGBA";
-    case PNG_COLOR_TYPE_PALETTE: return "palette";
-    default: return "colour type " + std::to_string(colour_type);
+    case PNG_COLOR_TYPE_GRAY:
+      return "gray";
+    case PNG_COLOR_TYPE_GRAY_ALPHA:
+      return "gray+alpha";
+    case PNG_COLOR_TYPE_RGB:
+      return "RGB";
+    case PNG_COLOR_TYPE_RGB_ALPHA:
+      return "RGBA";
+    case PNG_COLOR_TYPE_PALETTE:
+      return "palette";
+    default:
+      return "colour type " + std::to_string(colour_type);
   }
 }
 
@@ -109,8 +115,8 @@ Decoded decode(const std::string& path, Want want) {
     // too large: nothing is decoded
   } else if (want == Want::k16) {
     if (bit_depth != 16 || colour_type != PNG_COLOR_TYPE_GRAY) {
-      *refused = "wrong PNG format in '" + path + "': expected a 16-bit single-channel (gray) depth PNG, found " +
-                 found;
+      *refused =
+          "wrong PNG format in '" + path + "': expected a 16-bit single-channel (gray) depth PNG, found " + found;
     } else {
       // PNG stores 16-bit samples big-endian; swap to host order on little-endian machines.
       const std::uint16_t probe = 1;
@@ -118,8 +124,7 @@ Decoded decode(const std::string& path, Want want) {
     }
   } else {
     if (bit_depth == 16) {
-      *refused =
-          "wrong PNG format in '" + path + "': expected an 8-bit gray/RGB/RGBA/palette PNG, found " + found;
+      *refused = "wrong PNG format in '" + path + "': expected an 8-bit gray/RGB/RGBA/palette PNG, found " + found;
     } else {
       if (colour_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
       if (colour_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
@@ -162,11 +167,9 @@ Decoded decode(const std::string& path, Want want) {
 // Encodes rows of `bit_depth` samples. `row_at(y)` returns a pointer to row y in PNG
 // byte order. Writes to a temporary file and renames it over `path`.
 template <typename RowAt>
-void encode(const std::string& path, int width, int height, int colour_type, int bit_depth, bool swap16,
-            RowAt row_at) {
+void encode(const std::string& path, int width, int height, int colour_type, int bit_depth, bool swap16, RowAt row_at) {
   if (width <= 0 || height <= 0) {
-    throw Error("cannot write PNG '" + path + "': empty image " + std::to_string(width) + "x" +
-                std::to_string(height));
+    throw Error("cannot write PNG '" + path + "': empty image " + std::to_string(width) + "x" + std::to_string(height));
   }
   check_output_target(path);
   const std::string tmp = temporary_path_for(path);
@@ -192,8 +195,8 @@ void encode(const std::string& path, int width, int height, int colour_type, int
   // Fast deflate: rendering sequences is dominated by compression at the default level,
   // and file size matters little for generated data (decoding is unaffected).
   png_set_compression_level(png, 1);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth,
-               colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth, colour_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   if (swap16) png_set_swap(png);
   for (int y = 0; y < height; ++y) png_write_row(png, row_at(y));
@@ -219,8 +222,8 @@ bool host_is_little_endian() {
 Png8 read_png8(const std::string& path) {
   Decoded d = decode(path, Want::k8);
   if (d.bit_depth != 8 || (d.channels != 1 && d.channels != 3)) {
-    throw Error("wrong PNG format in '" + path + "': decoded to " + std::to_string(d.channels) +
-                " channels of " + std::to_string(d.bit_depth) + " bits, expected 8-bit gray or RGB");
+    throw Error("wrong PNG format in '" + path + "': decoded to " + std::to_string(d.channels) + " channels of " +
+                std::to_string(d.bit_depth) + " bits, expected 8-bit gray or RGB");
   }
   Png8 img;
   img.width = d.width;
@@ -249,25 +252,23 @@ Png16 read_png16(const std::string& path) {
 
 void write_png8(const std::string& path, const Png8& image) {
   if (image.channels != 1 && image.channels != 3) {
-    throw Error("cannot write PNG '" + path + "': " + std::to_string(image.channels) +
-                " channels (expected 1 or 3)");
+    throw Error("cannot write PNG '" + path + "': " + std::to_string(image.channels) + " channels (expected 1 or 3)");
   }
   const std::size_t row = static_cast<std::size_t>(image.width) * image.channels;
   if (image.data.size() != row * static_cast<std::size_t>(image.height)) {
-    throw Error("cannot write PNG '" + path + "': data size " + std::to_string(image.data.size()) +
-                " does not match " + std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
+    throw Error("cannot write PNG '" + path + "': data size " + std::to_string(image.data.size()) + " does not match " +
+                std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
                 std::to_string(image.channels));
   }
   const int colour = image.channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
-  encode(path, image.width, image.height, colour, 8, false, [&](int y) {
-    return const_cast<png_bytep>(image.data.data() + row * y);
-  });
+  encode(path, image.width, image.height, colour, 8, false,
+         [&](int y) { return const_cast<png_bytep>(image.data.data() + row * y); });
 }
 
 void write_png16(const std::string& path, const Png16& image) {
   if (image.data.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
-    throw Error("cannot write PNG '" + path + "': data size " + std::to_string(image.data.size()) +
-                " does not match " + std::to_string(image.width) + "x" + std::to_string(image.height));
+    throw Error("cannot write PNG '" + path + "': data size " + std::to_string(image.data.size()) + " does not match " +
+                std::to_string(image.width) + "x" + std::to_string(image.height));
   }
   encode(path, image.width, image.height, PNG_COLOR_TYPE_GRAY, 16, host_is_little_endian(), [&](int y) {
     return reinterpret_cast<png_bytep>(const_cast<std::uint16_t*>(image.data.data()) +

@@ -12,7 +12,7 @@ struct Png8 {
 };
 
 struct Png16 {
-  int width = 0, height = 0;    // single channel
+  int width = 0, height = 0;  // single channel
   std::vector<std::uint16_t> data;
 };
 

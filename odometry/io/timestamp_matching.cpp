@@ -18,8 +18,8 @@ void require_strictly_increasing(const std::vector<double>& v, const char* name)
     if (!(v[k - 1] < v[k])) {
       std::ostringstream m;
       m.precision(17);
-      m << "associate_timestamps: stamps of list " << name << " must be strictly increasing, but entry " << k
-        << " (" << v[k] << ") follows " << v[k - 1];
+      m << "associate_timestamps: stamps of list " << name << " must be strictly increasing, but entry " << k << " ("
+        << v[k] << ") follows " << v[k - 1];
       throw Error(m.str());
     }
   }
@@ -41,8 +41,10 @@ std::vector<std::pair<int, int>> associate_timestamps(const std::vector<double>&
   std::vector<int> order;
   order.reserve(static_cast<std::size_t>(n) + m);
   for (int i = 0, j = 0; i < n || j < m;) {
-    if (j == m || (i < n && a[i] <= b[j])) order.push_back(i++);
-    else order.push_back(n + j++);
+    if (j == m || (i < n && a[i] <= b[j]))
+      order.push_back(i++);
+    else
+      order.push_back(n + j++);
   }
   // Doubly linked list of the unmatched nodes in merged order (-1: none).
   std::vector<int> prev(order.size()), next(order.size());

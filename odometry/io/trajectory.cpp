@@ -17,8 +17,8 @@ Trajectory read_tum_trajectory(const std::string& path) {
   int previous_line = 0;
   for_each_tum_line(path, "trajectory", [&](const TumTextLine& l) {
     if (l.tokens.size() < 8) {
-      throw Error(tum_line_error(path, l.line_no,
-                                 "expected 'timestamp tx ty tz qx qy qz qw', got '" + excerpt(l.raw) + "'"));
+      throw Error(
+          tum_line_error(path, l.line_no, "expected 'timestamp tx ty tz qx qy qz qw', got '" + excerpt(l.raw) + "'"));
     }
     if (l.tokens.size() > 8) {
       throw Error(tum_line_error(path, l.line_no, "unexpected extra field '" + excerpt(l.tokens[8]) + "'"));
@@ -36,14 +36,15 @@ Trajectory read_tum_trajectory(const std::string& path) {
     const Eigen::Quaterniond q = Eigen::Quaterniond(c[3], c[0], c[1], c[2]).normalized();
     if (!out.empty() && v[0] <= out.back().timestamp) {
       if (v[0] < out.back().timestamp) {
-        throw Error(tum_line_error(path, l.line_no, "timestamp " + excerpt(l.tokens[0]) + " is earlier than line " +
-                                                        std::to_string(previous_line) +
-                                                        "'s (list must be sorted)"));
+        throw Error(tum_line_error(path, l.line_no,
+                                   "timestamp " + excerpt(l.tokens[0]) + " is earlier than line " +
+                                       std::to_string(previous_line) + "'s (list must be sorted)"));
       }
       // The same pose listed twice is harmless; two poses at one instant are contradictory.
       if (std::equal(v + 1, v + 8, previous + 1)) return;
-      throw Error(tum_line_error(path, l.line_no, "timestamp " + excerpt(l.tokens[0]) + " repeats line " +
-                                                      std::to_string(previous_line) + "'s with a different pose"));
+      throw Error(tum_line_error(path, l.line_no,
+                                 "timestamp " + excerpt(l.tokens[0]) + " repeats line " +
+                                     std::to_string(previous_line) + "'s with a different pose"));
     }
     std::copy(v, v + 8, previous);
     previous_line = l.line_no;

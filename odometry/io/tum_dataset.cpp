@@ -37,9 +37,9 @@ std::vector<ListedFile> read_file_list(const std::string& path) {
     f.line = line_no;
     if (!out.empty() && f.timestamp <= out.back().timestamp) {
       const std::string relation = f.timestamp == out.back().timestamp ? " repeats" : " is earlier than";
-      throw Error(tum_line_error(path, line_no, "timestamp " + excerpt(tokens[0]) + relation + " line " +
-                                                    std::to_string(out.back().line) +
-                                                    "'s (list must be strictly increasing)"));
+      throw Error(tum_line_error(path, line_no,
+                                 "timestamp " + excerpt(tokens[0]) + relation + " line " +
+                                     std::to_string(out.back().line) + "'s (list must be strictly increasing)"));
     }
     out.push_back(f);
   });
@@ -47,8 +47,7 @@ std::vector<ListedFile> read_file_list(const std::string& path) {
   return out;
 }
 
-std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
-                                             const std::vector<ListedFile>& depth,
+std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb, const std::vector<ListedFile>& depth,
                                              const std::string& directory, double max_dt) {
   if (!(max_dt > 0.0)) throw Error("association max dt must be positive, got " + std::to_string(max_dt));
   std::vector<double> rgb_stamps, depth_stamps;
@@ -69,8 +68,7 @@ std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
   return out;
 }
 
-std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory,
-                                               double max_dt) {
+std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory, double max_dt) {
   std::vector<AssociatedFrame> out;
   for_each_tum_line(path, "list", [&](const TumTextLine& l) {
     const auto& tokens = l.tokens;
@@ -87,8 +85,7 @@ std::vector<AssociatedFrame> read_associations(const std::string& path, const st
     f.origin = basename_of(path) + ":" + std::to_string(line_no);
     if (!(std::abs(f.rgb_time - f.depth_time) < max_dt)) {
       throw Error(where + ": rgb and depth timestamps differ by " +
-                  std::to_string(std::abs(f.rgb_time - f.depth_time)) + " s (limit " + std::to_string(max_dt) +
-                  " s)");
+                  std::to_string(std::abs(f.rgb_time - f.depth_time)) + " s (limit " + std::to_string(max_dt) + " s)");
     }
     if (!out.empty() && f.rgb_time <= out.back().rgb_time) {
       throw Error(where + ": rgb timestamp " + excerpt(tokens[0]) +
@@ -122,9 +119,9 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
     seq.frames = associate_lists(rgb, depth, directory, options.max_association_dt);
     seq.list_files = {rgb_list, depth_list};
     if (seq.frames.empty()) {
-      throw Error("no rgb/depth association within " + std::to_string(options.max_association_dt) +
-                  " s between '" + rgb_list + "' (" + std::to_string(rgb.size()) + " entries) and '" +
-                  depth_list + "' (" + std::to_string(depth.size()) + " entries)");
+      throw Error("no rgb/depth association within " + std::to_string(options.max_association_dt) + " s between '" +
+                  rgb_list + "' (" + std::to_string(rgb.size()) + " entries) and '" + depth_list + "' (" +
+                  std::to_string(depth.size()) + " entries)");
     }
   }
   if (options.max_frames >= 0 && int(seq.frames.size()) > options.max_frames) {
@@ -154,13 +151,13 @@ RgbdImage load_rgbd_image(const AssociatedFrame& frame, int expected_width, int 
   }
   if (colour.width != depth.width || colour.height != depth.height) {
     throw Error("image size mismatch: '" + frame.rgb_path + "' is " + std::to_string(colour.width) + "x" +
-                std::to_string(colour.height) + " but '" + frame.depth_path + "' is " +
-                std::to_string(depth.width) + "x" + std::to_string(depth.height) + from);
+                std::to_string(colour.height) + " but '" + frame.depth_path + "' is " + std::to_string(depth.width) +
+                "x" + std::to_string(depth.height) + from);
   }
   if (expected_width > 0 && (colour.width != expected_width || colour.height != expected_height)) {
     throw Error("wrong image size: '" + frame.rgb_path + "' is " + std::to_string(colour.width) + "x" +
-                std::to_string(colour.height) + ", the sequence's frames are " + std::to_string(expected_width) +
-                "x" + std::to_string(expected_height) + from);
+                std::to_string(colour.height) + ", the sequence's frames are " + std::to_string(expected_width) + "x" +
+                std::to_string(expected_height) + from);
   }
   RgbdImage im;
   im.width = colour.width;

@@ -36,31 +36,29 @@ struct AssociatedFrame {
 // Pairs each rgb entry with the depth entry of nearest timestamp, one to one, greedily in
 // order of increasing |dt| (as TUM's associate.py, associate_timestamps), keeping pairs with
 // |dt| < max_dt; the result is sorted by rgb time. Paths are joined to `directory`.
-std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb,
-                                             const std::vector<ListedFile>& depth,
+std::vector<AssociatedFrame> associate_lists(const std::vector<ListedFile>& rgb, const std::vector<ListedFile>& depth,
                                              const std::string& directory, double max_dt);
 
 // Reads associations.txt lines "t_rgb rgb_file t_depth depth_file" (associate.py output).
 // Throws on malformed lines, |t_rgb - t_depth| >= max_dt, rgb times not strictly increasing
 // or empty lists.
-std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory,
-                                               double max_dt);
+std::vector<AssociatedFrame> read_associations(const std::string& path, const std::string& directory, double max_dt);
 
 struct SequenceOptions {
-  double max_association_dt = 0.02;       // seconds
-  std::optional<Intrinsics> intrinsics;   // override of the preset chosen by name
-  std::optional<Distortion> distortion;   // override of the preset chosen by name
-  int max_frames = -1;                    // keep only the first N associated frames (-1: all)
+  double max_association_dt = 0.02;      // seconds
+  std::optional<Intrinsics> intrinsics;  // override of the preset chosen by name
+  std::optional<Distortion> distortion;  // override of the preset chosen by name
+  int max_frames = -1;                   // keep only the first N associated frames (-1: all)
 };
 
 struct TumSequence {
   std::string directory;
   std::string name;  // last path component, e.g. rgbd_dataset_freiburg1_rpy
   Intrinsics intrinsics;
-  Distortion distortion;                   // of the images as stored (lens_distortion.h)
-  std::vector<AssociatedFrame> frames;     // sorted by rgb time
-  std::optional<Trajectory> groundtruth;   // when groundtruth.txt exists
-  std::vector<std::string> list_files;     // the text files read (lists, groundtruth.txt)
+  Distortion distortion;                  // of the images as stored (lens_distortion.h)
+  std::vector<AssociatedFrame> frames;    // sorted by rgb time
+  std::optional<Trajectory> groundtruth;  // when groundtruth.txt exists
+  std::vector<std::string> list_files;    // the text files read (lists, groundtruth.txt)
 };
 
 // associations.txt when present, otherwise rgb.txt + depth.txt associated by timestamp.

@@ -122,8 +122,9 @@ void PooledFloats::release() {
   std::vector<FloatPool::Block>& blocks = origin->blocks;
   blocks.push_back({std::move(data_), capacity});
   if (blocks.size() > kMaxPooledBlocks) {
-    const auto smallest = std::min_element(blocks.begin(), blocks.end(),
-                                           [](const FloatPool::Block& a, const FloatPool::Block& b) { return a.capacity < b.capacity; });
+    const auto smallest =
+        std::min_element(blocks.begin(), blocks.end(),
+                         [](const FloatPool::Block& a, const FloatPool::Block& b) { return a.capacity < b.capacity; });
     blocks.erase(smallest);
   }
 }

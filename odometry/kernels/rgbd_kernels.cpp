@@ -20,17 +20,22 @@ const KernelTable& avx512_kernel_table();
 
 const char* to_string(KernelIsa isa) {
   switch (isa) {
-    case KernelIsa::kScalar: return "scalar";
-    case KernelIsa::kAvx2: return "avx2";
-    case KernelIsa::kAvx512Vl: return "avx512vl";
-    case KernelIsa::kAvx512: return "avx512";
+    case KernelIsa::kScalar:
+      return "scalar";
+    case KernelIsa::kAvx2:
+      return "avx2";
+    case KernelIsa::kAvx512Vl:
+      return "avx512vl";
+    case KernelIsa::kAvx512:
+      return "avx512";
   }
   return "?";
 }
 
 bool kernels_available(KernelIsa isa) {
   switch (isa) {
-    case KernelIsa::kScalar: return true;
+    case KernelIsa::kScalar:
+      return true;
     case KernelIsa::kAvx2: {
 #ifdef BIVO_HAVE_AVX2_KERNELS
       static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -80,8 +85,8 @@ const KernelTable& kernels(KernelIsa isa) {
 const KernelTable& default_kernels() {
   static const KernelTable& table = kernels(kernels_available(KernelIsa::kAvx512)     ? KernelIsa::kAvx512
                                             : kernels_available(KernelIsa::kAvx512Vl) ? KernelIsa::kAvx512Vl
-                                            : kernels_available(KernelIsa::kAvx2)   ? KernelIsa::kAvx2
-                                                                                    : KernelIsa::kScalar);
+                                            : kernels_available(KernelIsa::kAvx2)     ? KernelIsa::kAvx2
+                                                                                      : KernelIsa::kScalar);
   return table;
 }
 

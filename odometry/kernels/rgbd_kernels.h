@@ -56,7 +56,7 @@ struct ReferenceArrays {
   const float* intensity = nullptr;                      // I_1(x_i)
   // fx dI_1/du, fy dI_1/dv, fx dD_1/du, fy dD_1/dv at x_i (null unless reference gradients are used)
   const float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
-  std::size_t count = 0;                                 // terms (arrays are padded beyond)
+  std::size_t count = 0;  // terms (arrays are padded beyond)
 };
 
 // Per-pose state of every term.
@@ -115,9 +115,9 @@ struct ScaleSums {
 // P = S^-1: the moments sum w r r^T, and the sums of w^2 (r r^T)(r r^T) that make the
 // moments' derivative in P (Newton's Jacobian).
 struct JointScaleSums {
-  double m_ii = 0, m_id = 0, m_dd = 0;                  // sum w x^2, w x y, w y^2
+  double m_ii = 0, m_id = 0, m_dd = 0;                 // sum w x^2, w x y, w y^2
   double t40 = 0, t31 = 0, t22 = 0, t13 = 0, t04 = 0;  // sum w^2 x^p y^q
-  long long count = 0;                                  // terms valid in both
+  long long count = 0;                                 // terms valid in both
   void add(const JointScaleSums& o);
 };
 struct WeighSums {
@@ -149,13 +149,12 @@ struct KernelTable {
   // Writes the row's terms from index k on; returns the index after the last. Bit-identical
   // for every instruction set.
   std::size_t (*reference_row)(const ReferenceRow&, const ReferenceOut&, std::size_t k);
-  WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin,
-                   std::size_t end);
+  WarpSums (*warp)(const WarpParams&, const ReferenceArrays&, const TermBuffers&, std::size_t begin, std::size_t end);
   ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
   JointScaleSums (*joint_scale_sums)(const JointScaleParams&, const TermBuffers&, std::size_t begin, std::size_t end);
   WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
-  NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&,
-                                 const TermBuffers&, std::size_t begin, std::size_t end);
+  NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
+                                 std::size_t begin, std::size_t end);
 };
 
 // The best instruction set built in and supported by this CPU (AVX-512F sixteen lanes, else

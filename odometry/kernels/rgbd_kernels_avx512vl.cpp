@@ -16,8 +16,7 @@
 namespace bivo::odometry {
 
 const KernelTable& avx512vl_kernel_table() {
-  static const KernelTable table =
-      avx512vl_kernels::make_table<avx512vl_kernels::Avx2Lanes>(KernelIsa::kAvx512Vl);
+  static const KernelTable table = avx512vl_kernels::make_table<avx512vl_kernels::Avx2Lanes>(KernelIsa::kAvx512Vl);
   return table;
 }
 

@@ -118,8 +118,8 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         };
         if (want_i) {
           const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
-          objective(valid_i, i2 - V::load(ref.intensity + k), c.i00, c.i10, c.i01, c.i11, out.r_i, out.w_i,
-                    out.gi_u, out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
+          objective(valid_i, i2 - V::load(ref.intensity + k), c.i00, c.i10, c.i01, c.i11, out.r_i, out.w_i, out.gi_u,
+                    out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
         }
         if (want_d) {
           objective(valid_d, d2 - qz, c.d00, c.d10, c.d01, c.d11, out.r_d, out.w_d, out.gd_u, out.gd_v, ref.gd_u,
@@ -165,8 +165,7 @@ ScaleSums t_scale_sums(const float* r, std::size_t begin, std::size_t end, float
 }
 
 template <class V>
-JointScaleSums joint_scale_sums(const JointScaleParams& p, const TermBuffers& buf, std::size_t begin,
-                                std::size_t end) {
+JointScaleSums joint_scale_sums(const JointScaleParams& p, const TermBuffers& buf, std::size_t begin, std::size_t end) {
   using F = typename V::F;
   using M = typename V::M;
   const F zero = V::set(0.0f), a = V::set(p.p_ii), b2 = V::set(2.0f * p.p_id), c = V::set(p.p_dd);
@@ -234,8 +233,9 @@ inline void lane_weights(const WeightModel& m, ObjectiveMask objectives, const T
   if constexpr (kKind == WeightModel::kJoint) {
     // Both residuals are loaded: the joint model is used with both objectives only.
     using F = typename V::F;
-    const F q = V::fma(V::set(m.joint.p_ii), r_i * r_i,
-                       V::fma(V::set(2.0f * m.joint.p_id), r_i * r_d, V::fma(V::set(m.joint.p_dd), r_d * r_d, V::set(m.joint.nu))));
+    const F q = V::fma(
+        V::set(m.joint.p_ii), r_i * r_i,
+        V::fma(V::set(2.0f * m.joint.p_id), r_i * r_d, V::fma(V::set(m.joint.p_dd), r_d * r_d, V::set(m.joint.nu))));
     const F w = V::set(m.joint.nu + 2.0f) / q;
     const typename V::M both = valid_i & valid_d;
     w_i = V::select(both, w, lane_weight<V, WeightModel::kTDistribution>(m.intensity, buf.w_i, k, valid_i, r_i));
@@ -267,8 +267,8 @@ WeighSums weigh(const WeightModel& m, ObjectiveMask objectives, const TermBuffer
       const F r_i = objectives.intensity ? V::load(buf.r_i + k) : zero;
       const F r_d = objectives.depth ? V::load(buf.r_d + k) : zero;
       F w_i = zero, w_d = zero;
-      lane_weights<V, kKind>(m, objectives, buf, k, V::flag(buf.flags + k, 1), V::flag(buf.flags + k, 2), r_i, r_d,
-                             w_i, w_d);
+      lane_weights<V, kKind>(m, objectives, buf, k, V::flag(buf.flags + k, 1), V::flag(buf.flags + k, 2), r_i, r_d, w_i,
+                             w_d);
       f_i = V::fma(w_i * r_i, r_i, f_i);
       f_d = V::fma(w_d * r_d, r_d, f_d);
       ws_i = ws_i + w_i;
@@ -391,14 +391,18 @@ NormalSums normal_equations(const NormalParams& p, const WeightModel& m, const R
 }
 
 template <class V>
-WeighSums weigh_any(const WeightModel& m, ObjectiveMask o, const TermBuffers& buf, std::size_t begin,
-                    std::size_t end) {
+WeighSums weigh_any(const WeightModel& m, ObjectiveMask o, const TermBuffers& buf, std::size_t begin, std::size_t end) {
   switch (m.kind) {
-    case WeightModel::kTDistribution: return weigh<V, WeightModel::kTDistribution>(m, o, buf, begin, end);
-    case WeightModel::kHuber: return weigh<V, WeightModel::kHuber>(m, o, buf, begin, end);
-    case WeightModel::kStored: return weigh<V, WeightModel::kStored>(m, o, buf, begin, end);
-    case WeightModel::kJoint: return weigh<V, WeightModel::kJoint>(m, o, buf, begin, end);
-    case WeightModel::kUnit: break;
+    case WeightModel::kTDistribution:
+      return weigh<V, WeightModel::kTDistribution>(m, o, buf, begin, end);
+    case WeightModel::kHuber:
+      return weigh<V, WeightModel::kHuber>(m, o, buf, begin, end);
+    case WeightModel::kStored:
+      return weigh<V, WeightModel::kStored>(m, o, buf, begin, end);
+    case WeightModel::kJoint:
+      return weigh<V, WeightModel::kJoint>(m, o, buf, begin, end);
+    case WeightModel::kUnit:
+      break;
   }
   return weigh<V, WeightModel::kUnit>(m, o, buf, begin, end);
 }
@@ -409,10 +413,14 @@ NormalSums normal_equations_any(const NormalParams& p, const WeightModel& m, con
   switch (m.kind) {
     case WeightModel::kTDistribution:
       return normal_equations<V, WeightModel::kTDistribution>(p, m, ref, buf, begin, end);
-    case WeightModel::kHuber: return normal_equations<V, WeightModel::kHuber>(p, m, ref, buf, begin, end);
-    case WeightModel::kStored: return normal_equations<V, WeightModel::kStored>(p, m, ref, buf, begin, end);
-    case WeightModel::kJoint: return normal_equations<V, WeightModel::kJoint>(p, m, ref, buf, begin, end);
-    case WeightModel::kUnit: break;
+    case WeightModel::kHuber:
+      return normal_equations<V, WeightModel::kHuber>(p, m, ref, buf, begin, end);
+    case WeightModel::kStored:
+      return normal_equations<V, WeightModel::kStored>(p, m, ref, buf, begin, end);
+    case WeightModel::kJoint:
+      return normal_equations<V, WeightModel::kJoint>(p, m, ref, buf, begin, end);
+    case WeightModel::kUnit:
+      break;
   }
   return normal_equations<V, WeightModel::kUnit>(p, m, ref, buf, begin, end);
 }
@@ -436,7 +444,7 @@ std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std:
 
 template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa,           &reference_row<V>, &warp<V>, &t_scale_sums<V>, &joint_scale_sums<V>,
+  return {isa,           &reference_row<V>,       &warp<V>, &t_scale_sums<V>, &joint_scale_sums<V>,
           &weigh_any<V>, &normal_equations_any<V>};
 }
 

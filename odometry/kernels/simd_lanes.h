@@ -50,9 +50,7 @@ struct ScalarLanes {
   // Lanes k + j < n.
   static M lanes_below(std::size_t k, std::size_t n) { return k < n; }
   static M flag(const std::uint8_t* p, std::uint8_t bit) { return (*p & bit) != 0; }
-  static void store_flags(std::uint8_t* p, M a, M b) {
-    *p = static_cast<std::uint8_t>((a ? 1 : 0) | (b ? 2 : 0));
-  }
+  static void store_flags(std::uint8_t* p, M a, M b) { *p = static_cast<std::uint8_t>((a ? 1 : 0) | (b ? 2 : 0)); }
   static int count(M m) { return m ? 1 : 0; }
   static double sum(F v) { return v; }
 
@@ -274,7 +272,9 @@ struct Avx512Lanes {
       if (m == 0) continue;
       const __mmask16 keep = static_cast<__mmask16>(m);
       const __mmask16 front = static_cast<__mmask16>((1u << __builtin_popcount(m)) - 1u);
-      const auto put = [&](float* p, __m512 v) { _mm512_mask_storeu_ps(p + k, front, _mm512_maskz_compress_ps(keep, v)); };
+      const auto put = [&](float* p, __m512 v) {
+        _mm512_mask_storeu_ps(p + k, front, _mm512_maskz_compress_ps(keep, v));
+      };
       put(out.x, join(x[0], x[1]));
       put(out.y, join(y[0], y[1]));
       put(out.z, zf);
@@ -312,7 +312,8 @@ struct Avx512Lanes {
 
  private:
   static __m512 join(__m256 low, __m256 high) {
-    return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(low)), _mm256_castps_pd(high), 1));
+    return _mm512_castpd_ps(
+        _mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(low)), _mm256_castps_pd(high), 1));
   }
   static __m512 quarters(const float* q0, const float* q1, const float* q2, const float* q3) {
     __m512 r = _mm512_castps128_ps512(_mm_loadu_ps(q0));

@@ -75,8 +75,10 @@ SynthOptions benchmark_options(const BenchmarkSequence& entry, int threads) {
 std::vector<std::string> render_benchmark_set(const std::string& trajectories_dir, const std::string& output_dir,
                                               const std::string& category, int threads) {
   std::vector<BenchmarkSequence> entries;
-  if (category.empty()) entries = benchmark_set();
-  else entries.push_back(benchmark_sequence(category));
+  if (category.empty())
+    entries = benchmark_set();
+  else
+    entries.push_back(benchmark_sequence(category));
   std::vector<io::Trajectory> motions;
   for (const BenchmarkSequence& b : entries) {
     const fs::path p = fs::path(trajectories_dir) / b.trajectory;

@@ -84,8 +84,8 @@ std::vector<float> disparity_bias_field(const SensorDefects& d, std::uint64_t se
 double auto_exposure_gain(const SensorDefects& d, std::uint64_t seed, std::uint64_t frame) {
   if (!(d.gain_step > 0)) return 1.0;
   // Started at its stationary spread, so frame 0 is not special; O(frame) but a few hundred frames.
-  double log_gain = d.gain_step / std::sqrt(std::max(1e-12, 1.0 - d.gain_memory * d.gain_memory)) *
-                    gaussian(seed, kGainStream, 0);
+  double log_gain =
+      d.gain_step / std::sqrt(std::max(1e-12, 1.0 - d.gain_memory * d.gain_memory)) * gaussian(seed, kGainStream, 0);
   for (std::uint64_t k = 1; k <= frame; ++k) {
     log_gain = d.gain_memory * log_gain + d.gain_step * gaussian(seed, kGainStream, k);
   }
@@ -100,7 +100,8 @@ double depth_delay(const SensorDefects& d, std::uint64_t seed, std::uint64_t fra
   for (std::uint64_t k = 1; k <= frame; ++k) {
     delay += d.depth_delay_step_s * gaussian(seed, kDelayStream, k);
     // Reflect at the ends (a step is far smaller than the span: once or twice at most).
-    for (int bounce = 0; bounce < 64 && (delay < lo || delay > hi); ++bounce) delay = delay < lo ? 2 * lo - delay : 2 * hi - delay;
+    for (int bounce = 0; bounce < 64 && (delay < lo || delay > hi); ++bounce)
+      delay = delay < lo ? 2 * lo - delay : 2 * hi - delay;
     delay = std::clamp(delay, lo, hi);
   }
   return delay;

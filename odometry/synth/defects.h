@@ -21,8 +21,8 @@ struct SensorDefects {
   // pattern of the sensor), so depth is multiplied by 1 / (1 - z delta_d / (f_ir b)):
   // relative error ~ z delta_d / (f_ir b), growing linearly with depth. delta_d = radial
   // term + low-frequency term, each given as the relative depth error it causes at 1 m.
-  double bias_radial = 0.0;   // relative error at 1 m at the image corner (rho = 1), 0 at the centre
-  double bias_lowfreq = 0.0;  // RMS relative error at 1 m of a random smooth field
+  double bias_radial = 0.0;           // relative error at 1 m at the image corner (rho = 1), 0 at the centre
+  double bias_lowfreq = 0.0;          // RMS relative error at 1 m of a random smooth field
   double bias_wavelength_px = 400.0;  // its shortest wavelength; the field is static over a sequence
   // Fixed-pattern depth noise: this share of the depth noise variance is the same in every
   // frame (a pattern in image coordinates, as the Kinect's speckle matching errors are), the
@@ -56,8 +56,8 @@ struct SensorDefects {
   bool unsynchronized() const { return depth_delay_min_s != 0.0 || depth_delay_max_s != 0.0; }
   bool timed_colour() const { return readout_s > 0.0 || exposure_s > 0.0; }
   bool any() const {
-    return depth_bias() || static_noise_share > 0.0 || misregistered() || unsynchronized() || timed_colour() || gain_step > 0.0 ||
-           vignetting > 0.0;
+    return depth_bias() || static_noise_share > 0.0 || misregistered() || unsynchronized() || timed_colour() ||
+           gain_step > 0.0 || vignetting > 0.0;
   }
 };
 

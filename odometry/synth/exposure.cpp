@@ -33,8 +33,7 @@ RenderedFrame render_timed_frame(const Scene& scene, const PoseAtTime& pose_at, 
   }
   const double delay = depth_delay(d, settings.noise_seed, frame_index);
   if (!d.timed_colour() && !d.misregistered() && delay == 0.0) return sense(colour, colour, settings, frame_index);
-  const SceneView depth =
-      view_scene(scene, {pose_at(delay) * colour_to_depth(d)}, settings, false);
+  const SceneView depth = view_scene(scene, {pose_at(delay) * colour_to_depth(d)}, settings, false);
   return sense(depth, colour, settings, frame_index);
 }
 

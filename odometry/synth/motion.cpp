@@ -80,12 +80,12 @@ io::Trajectory generate_handheld_motion(const HandheldMotionOptions& o) {
   HashRng rng(o.seed, 0x68616e64ull);  // "hand"
   const auto trans = random_band(rng, o.sinusoids_per_axis, o.min_frequency_hz, o.max_frequency_hz,
                                  o.translation_axis_weights, 1.0 - o.tremor_share);
-  const auto trans_tremor = random_band(rng, 2, o.tremor_min_hz, o.tremor_max_hz, o.translation_axis_weights,
-                                        o.tremor_share);
+  const auto trans_tremor =
+      random_band(rng, 2, o.tremor_min_hz, o.tremor_max_hz, o.translation_axis_weights, o.tremor_share);
   const auto rot = random_band(rng, o.sinusoids_per_axis, o.min_frequency_hz, o.max_frequency_hz,
                                o.rotation_axis_weights, 1.0 - o.tremor_share);
-  const auto rot_tremor = random_band(rng, 2, o.tremor_min_hz, o.tremor_max_hz, o.rotation_axis_weights,
-                                      o.tremor_share);
+  const auto rot_tremor =
+      random_band(rng, 2, o.tremor_min_hz, o.tremor_max_hz, o.rotation_axis_weights, o.tremor_share);
 
   const int n = static_cast<int>(std::floor(o.duration_s * o.rate_hz)) + 1;
   const auto build = [&](double ts, double rs) {
@@ -113,7 +113,7 @@ io::Trajectory generate_handheld_motion(const HandheldMotionOptions& o) {
 }
 
 io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_offset_s, int frames, double fps,
-                               const std::string& source, double max_gap_s) {
+                                   const std::string& source, double max_gap_s) {
   if (frames < 1) throw Error("need at least 1 frame, got " + std::to_string(frames));
   if (!(fps > 0)) throw Error("frame rate must be positive, got " + std::to_string(fps));
   if (!(start_offset_s >= 0 && std::isfinite(start_offset_s))) {
@@ -157,7 +157,8 @@ io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_of
 }
 
 io::Trajectory retime_trajectory(const io::Trajectory& motion, double scale) {
-  if (!(scale > 0 && scale <= 100)) throw Error("trajectory time scale must be in (0, 100], got " + std::to_string(scale));
+  if (!(scale > 0 && scale <= 100))
+    throw Error("trajectory time scale must be in (0, 100], got " + std::to_string(scale));
   io::Trajectory out = motion;
   if (scale == 1.0 || out.empty()) return out;
   const double t0 = motion.front().timestamp;

@@ -21,8 +21,8 @@ namespace bivo::odometry::synth {
 struct HandheldMotionOptions {
   std::uint64_t seed = 1;
   double duration_s = 4.0;
-  double rate_hz = 100.0;            // sample rate of the produced trajectory (mocap-like)
-  double start_time_s = 0.0;         // timestamp of the first pose
+  double rate_hz = 100.0;     // sample rate of the produced trajectory (mocap-like)
+  double start_time_s = 0.0;  // timestamp of the first pose
   double mean_linear_speed_mps = 0.3;
   double mean_angular_speed_dps = 20.0;
   int sinusoids_per_axis = 4;
@@ -46,7 +46,7 @@ MotionSpeeds mean_speeds(const io::Trajectory& trajectory);
 // Throws bivo::Error naming `source` when the trajectory has fewer than 2 poses, does not
 // span the requested time, or has a gap longer than max_gap_s around a frame time.
 io::Trajectory resample_trajectory(const io::Trajectory& motion, double start_offset_s, int frames, double fps,
-                               const std::string& source, double max_gap_s = 0.1);
+                                   const std::string& source, double max_gap_s = 0.1);
 
 // The trajectory played `scale` times faster: t -> t_first + (t - t_first) / scale (fast
 // motion from a real recording). scale 1 returns it unchanged.

@@ -55,9 +55,7 @@ class HashRng {
   HashRng(std::uint64_t seed, std::uint64_t stream) : seed_(seed), stream_(stream) {}
   double uniform() { return uniform01(hash3(seed_, stream_, counter_++)); }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  int integer(int lo, int hi_inclusive) {
-    return lo + static_cast<int>(uniform() * (hi_inclusive - lo + 1));
-  }
+  int integer(int lo, int hi_inclusive) { return lo + static_cast<int>(uniform() * (hi_inclusive - lo + 1)); }
 
  private:
   std::uint64_t seed_, stream_, counter_ = 0;

@@ -17,18 +17,18 @@ namespace {
 // A scene rectangle expressed in the camera frame, with what the intersection test needs.
 struct CameraPanel {
   Eigen::Vector3d origin, edge_u, edge_v, normal;
-  double plane_offset;           // normal . origin
-  double inv_len2_u, inv_len2_v; // 1 / |edge|^2
+  double plane_offset;            // normal . origin
+  double inv_len2_u, inv_len2_v;  // 1 / |edge|^2
   double len_u, len_v;
   int material;
-  int id;                        // index in the scene: rows of a rolling shutter see different lists
-  std::uint64_t key;             // which poster each texture cell shows (scene seed, panel index)
+  int id;             // index in the scene: rows of a rolling shutter see different lists
+  std::uint64_t key;  // which poster each texture cell shows (scene seed, panel index)
 };
 
 struct Hit {
-  int panel = -1;     // index in the pose's panel list
-  int id = -1;        // index in the scene
-  double z = 0.0;     // depth along the optical axis (the ray has unit z component)
+  int panel = -1;  // index in the pose's panel list
+  int id = -1;     // index in the scene
+  double z = 0.0;  // depth along the optical axis (the ray has unit z component)
   double a = 0, b = 0;
 };
 
@@ -83,8 +83,9 @@ PoseView pose_view(const Scene& scene, const Eigen::Isometry3d& T_wc, const Pinh
   const double ky0 = (-pad - cam.cy) / cam.fy, ky1 = (cam.height - 1 + pad - cam.cy) / cam.fy;
   const auto outside_frustum = [&](const Panel& p) {
     bool out[4] = {true, true, true, true};
-    for (const Eigen::Vector3d& w : {p.origin, Eigen::Vector3d(p.origin + p.edge_u),
-                                     Eigen::Vector3d(p.origin + p.edge_v), Eigen::Vector3d(p.origin + p.edge_u + p.edge_v)}) {
+    for (const Eigen::Vector3d& w :
+         {p.origin, Eigen::Vector3d(p.origin + p.edge_u), Eigen::Vector3d(p.origin + p.edge_v),
+          Eigen::Vector3d(p.origin + p.edge_u + p.edge_v)}) {
       const Eigen::Vector3d q = R_cw * w + t_cw;
       out[0] = out[0] && q.x() < kx0 * q.z();
       out[1] = out[1] && q.x() > kx1 * q.z();
@@ -155,8 +156,8 @@ SceneView view_scene(const Scene& scene, const std::vector<Eigen::Isometry3d>& r
   const PinholeCamera& cam = settings.camera;
   validate(settings);
   if (row_poses.size() != 1 && row_poses.size() != static_cast<std::size_t>(cam.height)) {
-    throw Error("render_frame: " + std::to_string(row_poses.size()) + " row poses for " +
-                std::to_string(cam.height) + " rows (give 1 or one per row)");
+    throw Error("render_frame: " + std::to_string(row_poses.size()) + " row poses for " + std::to_string(cam.height) +
+                " rows (give 1 or one per row)");
   }
   const int W = cam.width, H = cam.height, ss = settings.supersampling;
   const double focal = std::sqrt(cam.fx * cam.fy);
@@ -180,16 +181,14 @@ SceneView view_scene(const Scene& scene, const std::vector<Eigen::Isometry3d>& r
     const double u_m = hit.a * p.len_u, v_m = hit.b * p.len_v;
     const double cu = std::floor(u_m / m.tile_u_m), cv = std::floor(v_m / m.tile_v_m);
     const std::uint64_t cell = (static_cast<std::uint64_t>(cu) << 32) ^ static_cast<std::uint64_t>(cv);
-    const int tex = m.textures.size() == 1
-                        ? m.textures[0]
-                        : m.textures[mix64(p.key ^ cell) % m.textures.size()];
+    const int tex = m.textures.size() == 1 ? m.textures[0] : m.textures[mix64(p.key ^ cell) % m.textures.size()];
     const MipTexture& T = scene.textures[tex];
     // Footprint on the surface: z/f per pixel across the ray, stretched by 1/cos along
     // the slope; the geometric mean of the two makes an isotropic filter width.
     const double footprint_m = hit.z * footprint_px / focal / std::sqrt(std::max(cos_inc, 0.05));
     const float texels = static_cast<float>(footprint_m / m.tile_u_m * T.width());
-    const Eigen::Vector3f albedo = T.sample(static_cast<float>(u_m / m.tile_u_m - cu),
-                                            static_cast<float>(v_m / m.tile_v_m - cv), texels);
+    const Eigen::Vector3f albedo =
+        T.sample(static_cast<float>(u_m / m.tile_u_m - cu), static_cast<float>(v_m / m.tile_v_m - cv), texels);
     const Eigen::Vector3d n = p.normal.dot(ray) > 0 ? Eigen::Vector3d(-p.normal) : p.normal;
     const Eigen::Vector3d to_light = view.light_c - hit.z * ray;  // rays have unit z: hit.z * ray is the point
     const double r = to_light.norm();

@@ -17,19 +17,19 @@ struct RenderSettings {
   PinholeCamera camera;
   DepthSensorModel depth;
   IntensitySensorModel intensity;
-  int supersampling = 2;      // n x n colour samples per pixel (1 = none)
-  bool sensor_noise = true;   // false: no random noise, no disparity quantization, unit exposure
+  int supersampling = 2;     // n x n colour samples per pixel (1 = none)
+  bool sensor_noise = true;  // false: no random noise, no disparity quantization, unit exposure
   std::uint64_t noise_seed = 1;
-  SensorDefects defects;      // all off by default
+  SensorDefects defects;  // all off by default
 };
 
 struct RenderedFrame {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;       // 3 per pixel, row-major
-  std::vector<std::uint16_t> depth;    // TUM units: 5000 per metre, 0 = no measurement
-  std::vector<float> true_depth;       // noise-free z [m] of the centre ray, 0 = no surface hit
+  std::vector<std::uint8_t> rgb;     // 3 per pixel, row-major
+  std::vector<std::uint16_t> depth;  // TUM units: 5000 per metre, 0 = no measurement
+  std::vector<float> true_depth;     // noise-free z [m] of the centre ray, 0 = no surface hit
   double exposure_gain = 1.0;
-  double valid_depth_fraction = 0.0;   // share of pixels with a depth measurement
+  double valid_depth_fraction = 0.0;  // share of pixels with a depth measurement
 };
 
 // Throws bivo::Error naming the setting when a camera or sensor parameter is outside its

@@ -27,15 +27,23 @@ SynthCategory parse_category(const std::string& category, const std::string& dis
                  "': expected {structure|nostructure}_{texture|notexture}[_{near|far}], "
                  "e.g. structure_texture_near");
   };
-  if (take("nostructure")) c.structure = false;
-  else if (take("structure")) c.structure = true;
-  else throw fail();
-  if (take("_notexture")) c.texture = false;
-  else if (take("_texture")) c.texture = true;
-  else throw fail();
+  if (take("nostructure"))
+    c.structure = false;
+  else if (take("structure"))
+    c.structure = true;
+  else
+    throw fail();
+  if (take("_notexture"))
+    c.texture = false;
+  else if (take("_texture"))
+    c.texture = true;
+  else
+    throw fail();
   std::string dist;
-  if (rest == "_near" || rest == "_far") dist = rest.substr(1);
-  else if (!rest.empty()) throw fail();
+  if (rest == "_near" || rest == "_far")
+    dist = rest.substr(1);
+  else if (!rest.empty())
+    throw fail();
   if (!distance.empty()) {
     if (distance != "near" && distance != "far") {
       throw Error("unknown distance '" + distance + "': expected near or far");
@@ -155,15 +163,14 @@ Scene build_scene(const SynthCategory& category, std::uint64_t seed, const Scene
     s.panels.push_back(rectangle("floor", {-kHalfLength, -6.0, 0.0}, along, {0, kStripFront + 6.0, 0}, 1));
     s.panels.push_back(rectangle("floor_strip", {-kHalfLength, kStripFront, 0.0}, along,
                                  {0, kFoldDepth - kStripFront, 0}, category.texture ? 0 : 1));
-    s.panels.push_back(rectangle("floor_back", {-kHalfLength, kFoldDepth, 0.0}, along,
-                                 {0, kWallY - kFoldDepth, 0}, 1));
+    s.panels.push_back(rectangle("floor_back", {-kHalfLength, kFoldDepth, 0.0}, along, {0, kWallY - kFoldDepth, 0}, 1));
     s.panels.push_back(rectangle("wall", {-kHalfLength, kWallY, 0.0}, along, {0, 0, 3.0}, 2));
     // The optical axis meets the zig-zag's mid plane (y = kFoldDepth / 2) mid-panel, at the
     // height that puts the camera at the real one: low, so floor and panels share the view.
     pitch_deg = layout.pitch_deg > 0 ? layout.pitch_deg : (category.near ? 31.0 : 27.0);
     const double camera_height = category.near ? 0.88 : 1.09;
-    s.target = Eigen::Vector3d(0.5 * kFoldPitch, 0.5 * kFoldDepth,
-                               camera_height - d * std::sin(pitch_deg * M_PI / 180.0));
+    s.target =
+        Eigen::Vector3d(0.5 * kFoldPitch, 0.5 * kFoldDepth, camera_height - d * std::sin(pitch_deg * M_PI / 180.0));
   } else {
     s.panels.push_back(rectangle("plane", {-kHalfLength, -4.0, 0.0}, along, {0, 16.0, 0}, 0));
     s.target = Eigen::Vector3d::Zero();

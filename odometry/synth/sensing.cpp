@@ -63,24 +63,24 @@ RenderedFrame sense(const SceneView& depth_view, const SceneView& colour_view, c
     for (int u = 0; u < W; ++u) {
       if (!edge[static_cast<std::size_t>(v) * W + u]) continue;
       for (int y = std::max(0, v - band); y <= std::min(H - 1, v + band); ++y) {
-        for (int x = std::max(0, u - band); x <= std::min(W - 1, u + band); ++x) valid[static_cast<std::size_t>(y) * W + x] = 0;
+        for (int x = std::max(0, u - band); x <= std::min(W - 1, u + band); ++x)
+          valid[static_cast<std::size_t>(y) * W + x] = 0;
       }
     }
   }
 
   const double fb = dm.ir_focal_px * dm.baseline_m;
   const SensorDefects& defects = settings.defects;
-  const std::vector<float> bias =
-      defects.depth_bias()
-          ? disparity_bias_field(defects, settings.noise_seed, W, H, cam.cx, cam.cy, fb)
-          : std::vector<float>();
+  const std::vector<float> bias = defects.depth_bias()
+                                      ? disparity_bias_field(defects, settings.noise_seed, W, H, cam.cx, cam.cy, fb)
+                                      : std::vector<float>();
   const std::uint64_t depth_key = hash3(settings.noise_seed, kDepthStream, frame_index);
   std::vector<float> depth_noise =
       settings.sensor_noise ? correlated_normal_field(depth_key, W, H, dm.noise_correlation_px) : std::vector<float>();
   if (settings.sensor_noise && defects.static_noise_share > 0) {
     // The fixed pattern: the field of a frame index no sequence reaches, mixed in at unit variance.
-    const std::vector<float> pattern = correlated_normal_field(hash3(settings.noise_seed, kDepthStream, ~0ull), W, H,
-                                                               dm.noise_correlation_px);
+    const std::vector<float> pattern =
+        correlated_normal_field(hash3(settings.noise_seed, kDepthStream, ~0ull), W, H, dm.noise_correlation_px);
     const auto a = static_cast<float>(std::sqrt(1.0 - defects.static_noise_share));
     const auto b = static_cast<float>(std::sqrt(defects.static_noise_share));
     for (std::size_t i = 0; i < depth_noise.size(); ++i) depth_noise[i] = a * depth_noise[i] + b * pattern[i];

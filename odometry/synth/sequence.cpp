@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
-#include <exception>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -55,9 +55,8 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
   }
   json materials = json::array();
   for (const Material& m : scene.materials) {
-    materials.push_back({{"name", m.name},
-                         {"tile_m", json::array({m.tile_u_m, m.tile_v_m})},
-                         {"texture_count", m.textures.size()}});
+    materials.push_back(
+        {{"name", m.name}, {"tile_m", json::array({m.tile_u_m, m.tile_v_m})}, {"texture_count", m.textures.size()}});
   }
   double vmin = 1, vmax = 0, vsum = 0;
   json gains = json::array();
@@ -78,8 +77,12 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
       {"frames", o.frames},
       {"fps", o.fps},
       {"camera",
-       {{"width", r.camera.width}, {"height", r.camera.height}, {"fx", r.camera.fx}, {"fy", r.camera.fy},
-        {"cx", r.camera.cx}, {"cy", r.camera.cy}}},
+       {{"width", r.camera.width},
+        {"height", r.camera.height},
+        {"fx", r.camera.fx},
+        {"fy", r.camera.fy},
+        {"cx", r.camera.cx},
+        {"cy", r.camera.cy}}},
       {"depth_sensor",
        {{"noise_coeff", r.depth.noise_coeff},
         {"noise_correlation_px", r.depth.noise_correlation_px},
@@ -211,7 +214,7 @@ std::string default_sequence_name(const SynthCategory& category) {
 }
 
 io::Trajectory frame_poses(const SynthOptions& o, const Scene& scene, const io::Trajectory& motion,
-                       const std::string& motion_source, Eigen::Isometry3d* anchor) {
+                           const std::string& motion_source, Eigen::Isometry3d* anchor) {
   validate(o);
   io::Trajectory poses =
       resample_trajectory(retime_trajectory(motion, o.time_scale), o.start_offset_s, o.frames, o.fps, motion_source);
@@ -273,8 +276,8 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
         if (!T) throw Error("synth: no pose of '" + motion_source + "' near t=" + std::to_string(t) + " (gap)");
         return anchor * *T;
       };
-      RenderedFrame f = timed ? render_timed_frame(scene, pose_at, settings, k64)
-                              : render_frame(scene, poses[k].T_wc, settings, k64);
+      RenderedFrame f =
+          timed ? render_timed_frame(scene, pose_at, settings, k64) : render_frame(scene, poses[k].T_wc, settings, k64);
       stamps[k] = stamp(poses[k].timestamp);
       delays[k] = depth_delay(defects, settings.noise_seed, k64);
       depth_stamps[k] = stamp(poses[k].timestamp + delays[k]);
@@ -293,8 +296,8 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
       stats[k] = std::move(f);
     };
     // Frames are independent: worker w takes frames w, w + n, w + 2n, ...
-    const int n_threads = std::clamp(o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()),
-                                     1, o.frames);
+    const int n_threads =
+        std::clamp(o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()), 1, o.frames);
     std::vector<std::exception_ptr> failures(n_threads);
     std::vector<std::thread> workers;
     for (int w = 0; w < n_threads; ++w) {
@@ -349,9 +352,9 @@ std::string render_sequence(const SynthOptions& o, const std::string& output_dir
   const double span = o.time_scale == 1.0 ? clock_span : clock_span * o.time_scale;
   if (!(span * h.rate_hz < static_cast<double>(io::input_limits().max_list_entries))) {
     std::ostringstream m;
-    m << "synth: --start " << o.start_offset_s << " s and --frames " << o.frames << " at --fps " << o.fps
-      << " need " << span << " s of generated motion, more than " << io::input_limits().max_list_entries
-      << " poses at " << h.rate_hz << " Hz (the list limit; raise with --max-list-entries)";
+    m << "synth: --start " << o.start_offset_s << " s and --frames " << o.frames << " at --fps " << o.fps << " need "
+      << span << " s of generated motion, more than " << io::input_limits().max_list_entries << " poses at "
+      << h.rate_hz << " Hz (the list limit; raise with --max-list-entries)";
     throw Error(m.str());
   }
   h.duration_s = std::max(h.duration_s, span);

@@ -20,10 +20,10 @@
 #include <cstdint>
 #include <string>
 
+#include "odometry/io/trajectory.h"
 #include "odometry/synth/motion.h"
 #include "odometry/synth/render.h"
 #include "odometry/synth/scene.h"
-#include "odometry/io/trajectory.h"
 
 namespace bivo::odometry::synth {
 
@@ -40,8 +40,8 @@ struct SynthOptions {
   // Fast motion: the trajectory is played time_scale times faster (frame k shows the pose
   // at start + time_scale * k / fps seconds of the original recording's clock).
   double time_scale = 1.0;
-  SceneLayout layout;      // scene variant (far background); defaults = the benchmark's scenes
-  RenderSettings render;   // camera (freiburg3 defaults), sensor models, supersampling
+  SceneLayout layout;     // scene variant (far background); defaults = the benchmark's scenes
+  RenderSettings render;  // camera (freiburg3 defaults), sensor models, supersampling
   // Generated motion when none is given; its seed is overwritten by `seed`.
   HandheldMotionOptions handheld;
   // Frames are rendered and written by this many threads (0 = one per hardware thread);
@@ -68,6 +68,6 @@ std::string render_sequence(const SynthOptions& options, const std::string& outp
 // The frame poses a sequence is rendered with (resampled and re-anchored), exactly the
 // poses written to groundtruth.txt; `anchor` (optional) receives the re-anchoring transform.
 io::Trajectory frame_poses(const SynthOptions& options, const Scene& scene, const io::Trajectory& motion,
-                       const std::string& motion_source, Eigen::Isometry3d* anchor = nullptr);
+                           const std::string& motion_source, Eigen::Isometry3d* anchor = nullptr);
 
 }  // namespace bivo::odometry::synth

@@ -15,11 +15,11 @@ namespace fs = std::filesystem;
 
 SensorDefects stress_depth_and_image_defects() {
   SensorDefects d;
-  d.bias_radial = 0.02;      // 2 % at the corner at 1 m (Smisek et al. 2011: radial, up to a few %)
-  d.bias_lowfreq = 0.008;    // low-frequency pattern (Herrera et al. 2012: per-pixel disparity distortion)
+  d.bias_radial = 0.02;    // 2 % at the corner at 1 m (Smisek et al. 2011: radial, up to a few %)
+  d.bias_lowfreq = 0.008;  // low-frequency pattern (Herrera et al. 2012: per-pixel disparity distortion)
   d.bias_wavelength_px = 300.0;
-  d.depth_offset_m = Eigen::Vector3d(0.004, 0.002, 0.0);     // 2.1 / 1.1 px at 1 m
-  d.depth_rotation_rad = Eigen::Vector3d(0.0, 0.002, 0.0);   // 1.1 px at any depth
+  d.depth_offset_m = Eigen::Vector3d(0.004, 0.002, 0.0);    // 2.1 / 1.1 px at 1 m
+  d.depth_rotation_rad = Eigen::Vector3d(0.0, 0.002, 0.0);  // 1.1 px at any depth
   d.static_noise_share = 0.8;  // fr3's pair residual: 0.86e-3 z^2 against 2.3e-3 for independent noise
   // No colour-depth delay: the freiburg3 sensor family records both together (TUM fr3 lists: 0 ms).
   d.gain_step = 0.03;
@@ -44,8 +44,10 @@ std::vector<StressSequence> stress_set(int frames) {
         // Far background: the wall 3.5 m behind the zig-zag, seen over it (pitch 12 deg instead
         // of 27); the plane seen from 2.6 m.
         o.layout.wall_behind_m = 3.5;
-        if (c0.structure) o.layout.pitch_deg = 12.0;
-        else o.layout.distance_m = 2.6;
+        if (c0.structure)
+          o.layout.pitch_deg = 12.0;
+        else
+          o.layout.distance_m = 2.6;
         o.render.depth.max_range_m = 8.0;
         s.trajectory = benchmark_sequence(c0.name()).trajectory;
       } else {

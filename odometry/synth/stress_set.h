@@ -35,7 +35,6 @@ SensorDefects stress_depth_and_image_defects();
 // Renders the set (or the entries whose name contains `only`) into output_dir and writes
 // output_dir/stress_set.json (definition + digest of every folder). Returns the folders.
 std::vector<std::string> render_stress_set(const std::string& trajectories_dir, const std::string& output_dir,
-                                           int frames = kStressFrames, const std::string& only = "",
-                                           int threads = 0);
+                                           int frames = kStressFrames, const std::string& only = "", int threads = 0);
 
 }  // namespace bivo::odometry::synth

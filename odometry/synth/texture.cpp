@@ -21,12 +21,24 @@ Eigen::Vector3f random_saturated_colour(HashRng& rng) {
   const float c = v * s, x = c * (1.0f - std::fabs(std::fmod(h, 2.0f) - 1.0f)), m = v - c;
   Eigen::Vector3f rgb;
   switch (static_cast<int>(h)) {
-    case 0: rgb = {c, x, 0}; break;
-    case 1: rgb = {x, c, 0}; break;
-    case 2: rgb = {0, c, x}; break;
-    case 3: rgb = {0, x, c}; break;
-    case 4: rgb = {x, 0, c}; break;
-    default: rgb = {c, 0, x}; break;
+    case 0:
+      rgb = {c, x, 0};
+      break;
+    case 1:
+      rgb = {x, c, 0};
+      break;
+    case 2:
+      rgb = {0, c, x};
+      break;
+    case 3:
+      rgb = {0, x, c};
+      break;
+    case 4:
+      rgb = {x, 0, c};
+      break;
+    default:
+      rgb = {c, 0, x};
+      break;
   }
   return rgb + Eigen::Vector3f::Constant(m);
 }
@@ -73,8 +85,7 @@ struct Paragraph {
 
 MipTexture::MipTexture(int width, int height, std::vector<Eigen::Vector3f> level0) {
   if (!is_power_of_two(width) || !is_power_of_two(height)) {
-    throw Error("texture size " + std::to_string(width) + "x" + std::to_string(height) +
-                " is not a power of two");
+    throw Error("texture size " + std::to_string(width) + "x" + std::to_string(height) + " is not a power of two");
   }
   if (level0.size() != static_cast<std::size_t>(width) * height) {
     throw Error("texture data has " + std::to_string(level0.size()) + " texels, expected " +
@@ -188,8 +199,7 @@ MipTexture make_poster_texture(std::uint64_t seed, int width, int height) {
   return MipTexture(width, height, std::move(texels));
 }
 
-MipTexture make_uniform_texture(std::uint64_t seed, const Eigen::Vector3f& albedo, float variation,
-                                int size) {
+MipTexture make_uniform_texture(std::uint64_t seed, const Eigen::Vector3f& albedo, float variation, int size) {
   HashRng rng(seed, 0x756e69666f726dull);  // "uniform"
   // Two smooth sinusoidal undulations of random phase: variation is low-frequency only.
   const float p1 = static_cast<float>(rng.uniform(0, 6.2832)), p2 = static_cast<float>(rng.uniform(0, 6.2832));
@@ -197,8 +207,7 @@ MipTexture make_uniform_texture(std::uint64_t seed, const Eigen::Vector3f& albed
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       const float u = (x + 0.5f) / size, v = (y + 0.5f) / size;
-      const float m = 1.0f + variation * 0.5f *
-                                 (std::sin(6.2832f * 2 * u + p1) + std::sin(6.2832f * 2 * v + p2));
+      const float m = 1.0f + variation * 0.5f * (std::sin(6.2832f * 2 * u + p1) + std::sin(6.2832f * 2 * v + p2));
       texels[static_cast<std::size_t>(y) * size + x] = m * albedo;
     }
   }

@@ -40,7 +40,6 @@ MipTexture make_poster_texture(std::uint64_t seed, int width = 512, int height =
 // Near-uniform matte material (white foil, painted wall, floor): constant `albedo` times a
 // smooth variation of relative amplitude `variation` (e.g. 0.01) on a scale of ~1/4 of
 // the texture, so intensity gradients are tiny but not exactly zero.
-MipTexture make_uniform_texture(std::uint64_t seed, const Eigen::Vector3f& albedo,
-                                float variation, int size = 64);
+MipTexture make_uniform_texture(std::uint64_t seed, const Eigen::Vector3f& albedo, float variation, int size = 64);
 
 }  // namespace bivo::odometry::synth

@@ -93,10 +93,13 @@ ExitMeasures measure_point(const ConicProblem& p, const Eigen::VectorXd& x, cons
   }
   const double nb = std::max(1.0, p.b.norm()), nh = std::max(1.0, p.h.norm()), nc = std::max(1.0, p.c.norm());
   m.primal_residual = std::max(np > 0 ? (ax - p.b).norm() / nb : 0.0, nm > 0 ? (gx + s - p.h).norm() / nh : 0.0);
-  if (np > 0) m.primal_residual = std::max(m.primal_residual, blockwise_residual(nullptr, np, ax.data(), nullptr, p.b.data(), nullptr, 1.0));
+  if (np > 0)
+    m.primal_residual =
+        std::max(m.primal_residual, blockwise_residual(nullptr, np, ax.data(), nullptr, p.b.data(), nullptr, 1.0));
   if (nm > 0) {
     const Eigen::VectorXd gxs = gx + s;
-    m.primal_residual = std::max(m.primal_residual, blockwise_residual(&p.cones, nm, gxs.data(), s.data(), p.h.data(), nullptr, 1.0));
+    m.primal_residual =
+        std::max(m.primal_residual, blockwise_residual(&p.cones, nm, gxs.data(), s.data(), p.h.data(), nullptr, 1.0));
   }
   m.dual_residual = (aty + gtz + p.c).norm() / nc;
   const double cx = p.c.dot(x), by = np > 0 ? p.b.dot(y) : 0.0, hz = nm > 0 ? p.h.dot(z) : 0.0;
@@ -181,8 +184,8 @@ ExitMeasures certify(const ConicProblem& problem, const IpmSettings& settings, I
     return m;
   }
   r.status = IpmStatus::kNumericalTrouble;
-  r.note = "the returned point fails the " + to_string(claim) + " certificate on the given data: " +
-           shortfall(m, claim, reduced_tolerances(settings));
+  r.note = "the returned point fails the " + to_string(claim) +
+           " certificate on the given data: " + shortfall(m, claim, reduced_tolerances(settings));
   return m;
 }
 

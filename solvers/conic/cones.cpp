@@ -32,8 +32,8 @@ ConeProduct::ConeProduct(ConeSpec spec) : spec_(std::move(spec)) {
   if (spec_.nonnegative < 0) throw Error("cone: negative orthant dimension " + std::to_string(spec_.nonnegative));
   for (std::size_t k = 0; k < spec_.soc.size(); ++k) {
     if (spec_.soc[k] < 1) {
-      throw Error("cone: second-order cone #" + std::to_string(k) + " has dimension " +
-                  std::to_string(spec_.soc[k]) + " (must be >= 1)");
+      throw Error("cone: second-order cone #" + std::to_string(k) + " has dimension " + std::to_string(spec_.soc[k]) +
+                  " (must be >= 1)");
     }
   }
   dim_ = spec_.dim();  // throws when the sum does not fit an int
@@ -137,7 +137,7 @@ bool ConeProduct::compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorX
     const double nq = sc.q1_norm;
     const double sum_minus_one = nq * nq / (sc.q0 + 1.0) + nq;  // q0 + ||q1|| - 1
     sc.cplus = 0.5 * sum_minus_one * (sum_minus_one + 2.0);
-    const double inv = 1.0 / (sc.q0 + nq);                          // q0 - ||q1||
+    const double inv = 1.0 / (sc.q0 + nq);  // q0 - ||q1||
     sc.cminus = 0.5 * (sum_minus_one * inv) * (1.0 + inv);
   }
   // lambda = W z on the cones (in place: no buffer of the cone's size per iteration); the

@@ -12,9 +12,9 @@
 namespace bivo::solvers::conic {
 
 struct ConeSpec {
-  int nonnegative = 0;       // dimension l of the orthant (rows first in G, h)
-  std::vector<int> soc;      // second-order cone dimensions, each >= 1, in row order
-  int dim() const;           // sum of all dimensions; bivo::Error when it exceeds INT_MAX
+  int nonnegative = 0;   // dimension l of the orthant (rows first in G, h)
+  std::vector<int> soc;  // second-order cone dimensions, each >= 1, in row order
+  int dim() const;       // sum of all dimensions; bivo::Error when it exceeds INT_MAX
   int degree() const { return nonnegative + static_cast<int>(soc.size()); }
 };
 
@@ -30,14 +30,14 @@ struct ConeSpec {
 // I - c- g g^T > 0, so the expanded matrix stays quasi-definite.
 struct SocScaling {
   double beta = 1.0;
-  Eigen::VectorXd wb;     // normalized NT point, det = 1
-  double q0 = 1.0;        // q = wb o wb = (q0, q1), q1 = 2 wb0 wb1
+  Eigen::VectorXd wb;  // normalized NT point, det = 1
+  double q0 = 1.0;     // q = wb o wb = (q0, q1), q1 = 2 wb0 wb1
   double q1_norm = 0.0;
   double cplus = 0.0, cminus = 0.0;
 };
 
 struct NtScaling {
-  Eigen::VectorXd orthant_w;        // sqrt(s/z)
+  Eigen::VectorXd orthant_w;  // sqrt(s/z)
   std::vector<SocScaling> soc;
 };
 
@@ -62,8 +62,7 @@ class ConeProduct {
   NtScaling identity_scaling() const;
   void identity_scaling(NtScaling& w) const;  // into w's buffers
   // Computes the NT scaling of the pair (s, z) and lambda = W z; false if either leaves int K.
-  bool compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorXd& z, NtScaling& w,
-                       Eigen::VectorXd& lambda) const;
+  bool compute_scaling(const Eigen::VectorXd& s, const Eigen::VectorXd& z, NtScaling& w, Eigen::VectorXd& lambda) const;
   void apply_w(const NtScaling& w, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
   void apply_w_inverse(const NtScaling& w, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
   void apply_w_squared(const NtScaling& w, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;

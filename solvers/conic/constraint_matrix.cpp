@@ -24,8 +24,8 @@ using Ranges = std::vector<Eigen::Index>;
 
 // out(0 .. count) (= or +=) a G(begin .. begin + count, :) x; column j only over its
 // nonzero rows [first[j], last[j]).
-void dense_gx(const Eigen::MatrixXd& G, const Ranges& first, const Ranges& last, Eigen::Index begin,
-              Eigen::Index count, const double* x, double a, bool accumulate, double* out) {
+void dense_gx(const Eigen::MatrixXd& G, const Ranges& first, const Ranges& last, Eigen::Index begin, Eigen::Index count,
+              const double* x, double a, bool accumulate, double* out) {
   const Eigen::Index cols = G.cols();
   for (Eigen::Index i0 = 0; i0 < count; i0 += kBlock) {
     const Eigen::Index len = std::min(kBlock, count - i0), r0 = begin + i0, r1 = r0 + len;
@@ -69,8 +69,8 @@ ConstraintMatrix::ConstraintMatrix(const SparseMatrix& G, const Eigen::VectorXd&
   build(G, &row_scale, &col_scale, dense_fill, dense_max_cols);
 }
 
-void ConstraintMatrix::assign(const SparseMatrix& G, const Eigen::VectorXd& row_scale,
-                              const Eigen::VectorXd& col_scale, double dense_fill, int dense_max_cols) {
+void ConstraintMatrix::assign(const SparseMatrix& G, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& col_scale,
+                              double dense_fill, int dense_max_cols) {
   grams_.clear();
   dense_grams_.clear();
   build(G, &row_scale, &col_scale, dense_fill, dense_max_cols);
@@ -136,7 +136,8 @@ void ConstraintMatrix::build(const SparseMatrix& G, const Eigen::VectorXd* row_s
     G_.makeCompressed();
     if (row_scale) {
       for (int j = 0; j < G_.outerSize(); ++j) {
-        for (SparseMatrix::InnerIterator it(G_, j); it; ++it) it.valueRef() = value(static_cast<int>(it.row()), j, it.value());
+        for (SparseMatrix::InnerIterator it(G_, j); it; ++it)
+          it.valueRef() = value(static_cast<int>(it.row()), j, it.value());
       }
     }
     Gr_ = G_;

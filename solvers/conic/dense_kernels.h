@@ -6,10 +6,10 @@
 // can. Elsewhere they are plain loops.
 namespace bivo::solvers::conic::kernels {
 
-void axpy(long n, double a, const double* x, double* y);        // y += a x
-void scaled_copy(long n, double a, const double* x, double* y); // y = a x
-double dot(long n, const double* x, const double* y);           // 8 partial sums
-double max_abs(long n, const double* x);                        // 0 for n = 0
+void axpy(long n, double a, const double* x, double* y);         // y += a x
+void scaled_copy(long n, double a, const double* x, double* y);  // y = a x
+double dot(long n, const double* x, const double* y);            // 8 partial sums
+double max_abs(long n, const double* x);                         // 0 for n = 0
 bool all_finite(long n, const double* x);
 
 }  // namespace bivo::solvers::conic::kernels

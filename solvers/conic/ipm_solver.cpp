@@ -21,11 +21,16 @@ namespace bivo::solvers::conic {
 
 std::string to_string(IpmStatus status) {
   switch (status) {
-    case IpmStatus::kOptimal: return "optimal";
-    case IpmStatus::kPrimalInfeasible: return "primal infeasible";
-    case IpmStatus::kDualInfeasible: return "dual infeasible";
-    case IpmStatus::kMaxIterations: return "max iterations";
-    case IpmStatus::kNumericalTrouble: return "numerical trouble";
+    case IpmStatus::kOptimal:
+      return "optimal";
+    case IpmStatus::kPrimalInfeasible:
+      return "primal infeasible";
+    case IpmStatus::kDualInfeasible:
+      return "dual infeasible";
+    case IpmStatus::kMaxIterations:
+      return "max iterations";
+    case IpmStatus::kNumericalTrouble:
+      return "numerical trouble";
   }
   return "unknown";
 }
@@ -163,7 +168,7 @@ class Solver {
   // compressed form (14 cone rows) allocation, not arithmetic, was a tenth of a solve.
   Eigen::VectorXd trial_s_, trial_z_, bs_aff_, ll_, corr_, rc_, bs_, ds_, wbs_, rhs_, sol_;
   Direction aff_, cor_;
-  double denom_ = 0.0;           // kappa/tau + ||W z1||^2, minus the kappa/tau part
+  double denom_ = 0.0;  // kappa/tau + ||W z1||^2, minus the kappa/tau part
 };
 
 bool Solver::initialize() {
@@ -299,8 +304,8 @@ IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iter
   if (st_.log) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "polished (%d Newton steps): pres %.1e, dres %.1e, gap %.1e, objective gap %.1e%s\n",
-                  polisher_->last_newton_steps(), res.primal_residual, res.dual_residual, res.gap,
-                  res.objective_gap, accepted ? "" : ": rejected on the unscaled data");
+                  polisher_->last_newton_steps(), res.primal_residual, res.dual_residual, res.gap, res.objective_gap,
+                  accepted ? "" : ": rejected on the unscaled data");
     *st_.log << buf;
   }
   if (accepted) return &res;
@@ -312,9 +317,10 @@ IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iter
 void Solver::log_header() const {
   if (!st_.log) return;
   char buf[256];
-  std::snprintf(buf, sizeof buf, "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), reduced KKT %d x %d, L nnz %ld\n",
-                n_, p_, m_, sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_.reduced_size(),
-                kkt_.reduced_size(), kkt_.factor_nonzeros());
+  std::snprintf(buf, sizeof buf,
+                "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), reduced KKT %d x %d, L nnz %ld\n", n_, p_, m_,
+                sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_.reduced_size(), kkt_.reduced_size(),
+                kkt_.factor_nonzeros());
   *st_.log << buf;
   *st_.log << "iter      pcost        dcost       gap     pres     dres     k/t       mu     step   sigma  ref\n";
 }
@@ -323,8 +329,8 @@ void Solver::log_iteration(int k, const Residuals& r, double mu, double step, do
   if (!st_.log) return;
   char buf[256];
   std::snprintf(buf, sizeof buf, "%3d %+.5e %+.5e %8.1e %8.1e %8.1e %8.1e %8.1e %7.4f %7.4f %3d\n", k,
-                r.primal_objective, r.dual_objective, r.gap, r.primal_residual, r.dual_residual,
-                v_.kappa / v_.tau, mu, step, sigma, kkt_.last_refinement_steps());
+                r.primal_objective, r.dual_objective, r.gap, r.primal_residual, r.dual_residual, v_.kappa / v_.tau, mu,
+                step, sigma, kkt_.last_refinement_steps());
   *st_.log << buf;
 }
 

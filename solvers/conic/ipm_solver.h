@@ -25,9 +25,9 @@ enum class IpmStatus { kOptimal, kPrimalInfeasible, kDualInfeasible, kMaxIterati
 std::string to_string(IpmStatus status);
 
 struct IpmSettings {
-  double feastol = 1e-8;   // primal/dual residual, relative
-  double abstol = 1e-8;    // absolute duality gap s^T z
-  double reltol = 1e-8;    // relative duality gap
+  double feastol = 1e-8;  // primal/dual residual, relative
+  double abstol = 1e-8;   // absolute duality gap s^T z
+  double reltol = 1e-8;   // relative duality gap
   // Relative objective gap |c'x + b'y + h'z| / (1 + |c'x|) (certificate.h): the test that a
   // point feasible only relative to a huge ||h|| cannot pass.
   double gaptol = 1e-8;
@@ -58,7 +58,7 @@ struct IpmSettings {
   // Refined KKT solves check against the unexpanded system (passes over G) once the best
   // iterate's residuals and gap are below this; before, refinement runs on the reduced system.
   double full_refinement_from = 1e-4;
-  std::ostream* log = nullptr;    // per-iteration log when set
+  std::ostream* log = nullptr;  // per-iteration log when set
 };
 
 struct IpmResult {
@@ -78,11 +78,11 @@ struct IpmResult {
                                   // double precision can resolve (its rounding floor)
   double primal_residual_floor = 0.0, dual_residual_floor = 0.0;  // set with reduced_accuracy
   std::string note;
-  bool polished = false;          // the solution is the polished point (polish.h) ...
-  int polish_newton_steps = 0;    // ... after this many Newton steps
+  bool polished = false;        // the solution is the polished point (polish.h) ...
+  int polish_newton_steps = 0;  // ... after this many Newton steps
   int iterations = 0;
   double seconds = 0.0;
-  IpmTimings timings;             // seconds by phase (they sum to `seconds`) and pass counts
+  IpmTimings timings;  // seconds by phase (they sum to `seconds`) and pass counts
   long kkt_factor_nonzeros = 0;
 };
 

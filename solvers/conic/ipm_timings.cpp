@@ -6,20 +6,34 @@ namespace bivo::solvers::conic {
 
 const char* to_string(IpmPhase phase) {
   switch (phase) {
-    case IpmPhase::kValidation: return "validation";
-    case IpmPhase::kEquilibration: return "equilibration";
-    case IpmPhase::kKktSetup: return "kkt_setup";
-    case IpmPhase::kOrdering: return "ordering";
-    case IpmPhase::kSymbolic: return "symbolic";
-    case IpmPhase::kResiduals: return "residuals";
-    case IpmPhase::kGPasses: return "g_passes";
-    case IpmPhase::kKktFactor: return "kkt_factor";
-    case IpmPhase::kKktSolve: return "kkt_solve";
-    case IpmPhase::kRefinement: return "refinement";
-    case IpmPhase::kCones: return "cones";
-    case IpmPhase::kPolish: return "polish";
-    case IpmPhase::kOther: return "other";
-    case IpmPhase::kCount: break;
+    case IpmPhase::kValidation:
+      return "validation";
+    case IpmPhase::kEquilibration:
+      return "equilibration";
+    case IpmPhase::kKktSetup:
+      return "kkt_setup";
+    case IpmPhase::kOrdering:
+      return "ordering";
+    case IpmPhase::kSymbolic:
+      return "symbolic";
+    case IpmPhase::kResiduals:
+      return "residuals";
+    case IpmPhase::kGPasses:
+      return "g_passes";
+    case IpmPhase::kKktFactor:
+      return "kkt_factor";
+    case IpmPhase::kKktSolve:
+      return "kkt_solve";
+    case IpmPhase::kRefinement:
+      return "refinement";
+    case IpmPhase::kCones:
+      return "cones";
+    case IpmPhase::kPolish:
+      return "polish";
+    case IpmPhase::kOther:
+      return "other";
+    case IpmPhase::kCount:
+      break;
   }
   return "unknown";
 }
@@ -27,7 +41,8 @@ const char* to_string(IpmPhase phase) {
 void record_phases(const IpmTimings& t, PhaseProfile* profile) {
   if (!profile) return;
   for (int p = 0; p < static_cast<int>(IpmPhase::kCount); ++p) {
-    if (t.seconds[p] > 0.0) profile->add(std::string("subproblem/ipm_") + to_string(static_cast<IpmPhase>(p)), t.seconds[p]);
+    if (t.seconds[p] > 0.0)
+      profile->add(std::string("subproblem/ipm_") + to_string(static_cast<IpmPhase>(p)), t.seconds[p]);
   }
 }
 
@@ -43,7 +58,8 @@ IpmTimings& IpmTimings::operator+=(const IpmTimings& o) {
 
 double IpmTimings::setup_seconds() const {
   double s = 0.0;
-  for (int p = static_cast<int>(IpmPhase::kValidation); p <= static_cast<int>(IpmPhase::kSymbolic); ++p) s += seconds[p];
+  for (int p = static_cast<int>(IpmPhase::kValidation); p <= static_cast<int>(IpmPhase::kSymbolic); ++p)
+    s += seconds[p];
   return s;
 }
 

@@ -14,20 +14,20 @@ namespace bivo::solvers::conic {
 
 enum class IpmPhase : int {
   // Set-up, once per solve.
-  kValidation,      // sizes, cone sums, finite entries
-  kEquilibration,   // Ruiz factors and the scaled copy of the data
-  kKktSetup,        // the KKT pattern and the per-cone Gram matrices
-  kOrdering,        // CAMD
-  kSymbolic,        // ldl_symbolic (elimination tree, column counts)
+  kValidation,     // sizes, cone sums, finite entries
+  kEquilibration,  // Ruiz factors and the scaled copy of the data
+  kKktSetup,       // the KKT pattern and the per-cone Gram matrices
+  kOrdering,       // CAMD
+  kSymbolic,       // ldl_symbolic (elimination tree, column counts)
   // Per iteration (and the two initial solves).
-  kResiduals,       // embedding residuals and stopping measures, without their G products
-  kGPasses,         // products with G and G^T
-  kKktFactor,       // numeric LDL^T (and the per-factorization cone terms), without G products
-  kKktSolve,        // triangular solves and the z elimination, without G products
-  kRefinement,      // residuals of the unexpanded KKT system, without G products
-  kCones,           // NT scaling, Jordan products and divisions, W products, steps to the boundary
-  kPolish,          // the active-set Newton polish, its G products included
-  kOther,           // the rest: direction assembly, the iterate update, logging
+  kResiduals,   // embedding residuals and stopping measures, without their G products
+  kGPasses,     // products with G and G^T
+  kKktFactor,   // numeric LDL^T (and the per-factorization cone terms), without G products
+  kKktSolve,    // triangular solves and the z elimination, without G products
+  kRefinement,  // residuals of the unexpanded KKT system, without G products
+  kCones,       // NT scaling, Jordan products and divisions, W products, steps to the boundary
+  kPolish,      // the active-set Newton polish, its G products included
+  kOther,       // the rest: direction assembly, the iterate update, logging
   kCount
 };
 
@@ -35,7 +35,7 @@ const char* to_string(IpmPhase phase);
 
 struct IpmTimings {
   std::array<double, static_cast<int>(IpmPhase::kCount)> seconds{};
-  int g_passes = 0;            // products with G or G^T (polish excluded)
+  int g_passes = 0;  // products with G or G^T (polish excluded)
   int kkt_factors = 0, kkt_solves = 0, refinement_steps = 0;
   int polish_attempts = 0;
 

@@ -167,8 +167,8 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
   camd_defaults(control);
   const int status = camd_order(R_, Kp_.data(), Ki_.data(), P_.data(), control, info, constraint.data());
   if (status != CAMD_OK && status != CAMD_OK_BUT_JUMBLED) {
-    throw Error("conic KKT: CAMD ordering failed (status " + std::to_string(status) + ", size " +
-                std::to_string(R_) + ")");
+    throw Error("conic KKT: CAMD ordering failed (status " + std::to_string(status) + ", size " + std::to_string(R_) +
+                ")");
   }
   for (int k = 0; k < R_; ++k) Pinv_[P_[k]] = k;
   sign_.assign(R_, -1.0);

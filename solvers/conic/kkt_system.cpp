@@ -16,7 +16,9 @@ namespace bivo::solvers::conic {
 
 // q-hat = q1 / ||q1|| of a cone's scaling, or 0 when q1 = 0 (then c+ = c- = 0 and the
 // expansion columns decouple; any unit vector would do).
-static bool has_direction(const SocScaling& sc, int dim) { return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0; }
+static bool has_direction(const SocScaling& sc, int dim) {
+  return dim > 1 && sc.q1_norm > 0.0 && sc.wb.tail(dim - 1).norm() > 0.0;
+}
 
 KktSystem::KktSystem(const SparseMatrix& A, const ConstraintMatrix& Gm, const ConeProduct& cones, KktSettings settings,
                      IpmClock* clock) {

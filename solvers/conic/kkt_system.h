@@ -73,13 +73,14 @@ class KktSystem {
  private:
   void residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out);  // rhs - K v
   void reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol);  // one solve with the factors
-  void reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red);     // z eliminated (a pass over G^T)
-  void ldl_solve(Eigen::VectorXd& red);                                  // in place, with the factors
-  void back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& red, Eigen::VectorXd& sol);  // dz (a pass over G)
+  void reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red);    // z eliminated (a pass over G^T)
+  void ldl_solve(Eigen::VectorXd& red);                                // in place, with the factors
+  void back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd& red,
+                       Eigen::VectorXd& sol);  // dz (a pass over G)
   void reduced_residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out);
   bool refine_full(const Eigen::VectorXd& rhs, Eigen::VectorXd& sol);
   bool numeric_with_dynamic_regularization();
-  double z_pivot(double d);  // d, or dynamic_regularization when d is below the threshold
+  double z_pivot(double d);          // d, or dynamic_regularization when d is below the threshold
   int slot(int row, int col) const;  // position of (row, col) in the reduced CSC
 
   const SparseMatrix* A_ = nullptr;
@@ -95,20 +96,20 @@ class KktSystem {
   // base + sum_k soc_val / beta_k^2 + sum_i orth_val / w_i^2 + the p, q couplings.
   std::vector<int> Kp_, Ki_, mirror_;  // mirror_[s]: slot of the transposed entry
   std::vector<double> Kx_, base_;
-  std::vector<int> soc_slot_, soc_cone_;        // G_k^T G_k, upper triangle
+  std::vector<int> soc_slot_, soc_cone_;  // G_k^T G_k, upper triangle
   std::vector<double> soc_val_;
-  std::vector<int> orth_slot_, orth_row_;       // g_i g_i^T per orthant row, upper triangle
+  std::vector<int> orth_slot_, orth_row_;  // g_i g_i^T per orthant row, upper triangle
   std::vector<double> orth_val_;
   std::vector<int> couple_begin_, couple_col_;  // per cone: columns j with G_k(:, j) != 0
   std::vector<int> couple_p_slot_, couple_q_slot_;
-  std::vector<double> head_row_;                // G_k(head, j) for those columns
+  std::vector<double> head_row_;  // G_k(head, j) for those columns
   std::vector<int> p_diag_, q_diag_;
   // Per-factorization quantities of each cone: inverse pivot, coupling scales, G^T q-hat.
   std::vector<double> inv_d_, inv_b2_, scale_p_, scale_q_;
-  Eigen::VectorXd gq_full_;  // dense G: G_k,1^T q-hat over all columns
-  Eigen::VectorXd gq_;  // per cone k, the couple columns' (G_k,1^T q-hat) in couple order
+  Eigen::VectorXd gq_full_;     // dense G: G_k,1^T q-hat over all columns
+  Eigen::VectorXd gq_;          // per cone k, the couple columns' (G_k,1^T q-hat) in couple order
   std::vector<int> gq_target_;  // per nonzero of G: its index in gq_, -1 for heads and the orthant
-  Eigen::VectorXd qhat_;  // q-hat of every cone, stored at the cone's tail rows (heads unused)
+  Eigen::VectorXd qhat_;        // q-hat of every cone, stored at the cone's tail rows (heads unused)
 
   // Factorization.
   std::vector<int> P_, Pinv_, Lp_, Parent_, Lnz_, Flag_, Pattern_, Li_;

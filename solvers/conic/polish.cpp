@@ -170,8 +170,8 @@ double Polisher::evaluate(const Eigen::VectorXd& uu, bool quadratic, Eigen::Vect
     F[n + p + nb + r] = -sr;
     merit_apex = std::max(merit_apex, std::abs(sr));
   }
-  return std::max({F.head(n).lpNorm<Eigen::Infinity>() / nc, p > 0 ? F.segment(n, p).lpNorm<Eigen::Infinity>() / nbv : 0.0,
-                   merit_psi, merit_apex / nh});
+  return std::max({F.head(n).lpNorm<Eigen::Infinity>() / nc,
+                   p > 0 ? F.segment(n, p).lpNorm<Eigen::Infinity>() / nbv : 0.0, merit_psi, merit_apex / nh});
 }
 
 // Newton with backtracking on the merit until it stops falling (quadratic convergence,

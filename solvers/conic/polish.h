@@ -46,7 +46,7 @@
 namespace bivo::solvers::conic {
 
 struct PolishSettings {
-  int max_system_size = 200;  // n + p + boundary cones + apex rows, else no polishing
+  int max_system_size = 200;     // n + p + boundary cones + apex rows, else no polishing
   int max_quadratic_steps = 30;  // Newton steps on the quadratic forms (no pass over G)
   int max_newton_steps = 8;      // Newton steps on the true residuals after those
   int max_neighbour_cones = 4;   // up to this many SOCs, also try the guesses one cone away
@@ -67,7 +67,7 @@ class Polisher {
   // the per-problem forms are formed again on first use.
   void reset() { ready_ = false; }
   int last_newton_steps() const { return newton_steps_; }  // both stages
-  int last_true_steps() const { return true_steps_; }       // the second stage's
+  int last_true_steps() const { return true_steps_; }      // the second stage's
 
  private:
   enum class Kind { kInactive, kBoundary, kApex };
@@ -80,8 +80,7 @@ class Polisher {
   // Residuals F at unknowns u (Newton: M du = -F) and the columns a of the boundary cones;
   // `quadratic`: from the quadratic forms, else from s = h - G x (written to s). Returns the
   // merit (largest relative violation).
-  double evaluate(const Eigen::VectorXd& u, bool quadratic, Eigen::VectorXd& s, Eigen::MatrixXd& a,
-                  Eigen::VectorXd& F);
+  double evaluate(const Eigen::VectorXd& u, bool quadratic, Eigen::VectorXd& s, Eigen::MatrixXd& a, Eigen::VectorXd& F);
   // Newton with backtracking from u (see polish.cpp); false on a singular system.
   bool newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double& merit, int& steps);
   // On the quadratic forms' solution u of the guess: false, with those cones switched, when a
@@ -96,19 +95,19 @@ class Polisher {
   const ConeProduct& cones_;
   PolishSettings settings_;
   bool ready_ = false;
-  std::vector<Eigen::MatrixXd> gram_;       // P_k = Q_k - 2 g_k g_k^T = -G_k^T J G_k, per SOC
-  std::vector<Eigen::VectorXd> head_, u_;   // g_k, u_k = G_k^T J h_k
-  std::vector<double> eta_;                 // h_k^T J h_k
+  std::vector<Eigen::MatrixXd> gram_;                  // P_k = Q_k - 2 g_k g_k^T = -G_k^T J G_k, per SOC
+  std::vector<Eigen::VectorXd> head_, u_;              // g_k, u_k = G_k^T J h_k
+  std::vector<double> eta_;                            // h_k^T J h_k
   double norm_c_ = 1.0, norm_b_ = 1.0, norm_h_ = 1.0;  // 1 + infinity norms, for the merit
-  Eigen::MatrixXd Ga_, At_;                 // apex rows of G; A^T, dense
-  Eigen::VectorXd s0_, z0_;                 // the iterate's (s, z) / tau
-  Eigen::VectorXd psi_scale_;               // per boundary cone: the merit's normalization of psi
-  Eigen::VectorXd s_, F_, s_trial_, F_trial_, js_;  // evaluation buffers (current point, trial)
+  Eigen::MatrixXd Ga_, At_;                            // apex rows of G; A^T, dense
+  Eigen::VectorXd s0_, z0_;                            // the iterate's (s, z) / tau
+  Eigen::VectorXd psi_scale_;                          // per boundary cone: the merit's normalization of psi
+  Eigen::VectorXd s_, F_, s_trial_, F_trial_, js_;     // evaluation buffers (current point, trial)
   Eigen::MatrixXd a_, a_trial_, M_;
   std::vector<Kind> orthant_kind_, soc_kind_;
-  std::vector<int> apex_rows_;              // rows of G whose s is fixed at 0
-  std::vector<int> boundary_;               // SOC indices with kind kBoundary
-  std::vector<std::vector<Kind>> tried_;    // guesses tried in this polish call
+  std::vector<int> apex_rows_;            // rows of G whose s is fixed at 0
+  std::vector<int> boundary_;             // SOC indices with kind kBoundary
+  std::vector<std::vector<Kind>> tried_;  // guesses tried in this polish call
   int newton_steps_ = 0, true_steps_ = 0;
 };
 

@@ -16,8 +16,8 @@ void check_finite(const Eigen::VectorXd& v, const char* what) {
   if (kernels::all_finite(v.size(), v.data())) return;  // the common case, vectorized
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i])) {
-      throw Error(std::string("conic problem: ") + what + "[" + std::to_string(i) +
-                  "] is not finite (" + std::to_string(v[i]) + ")");
+      throw Error(std::string("conic problem: ") + what + "[" + std::to_string(i) + "] is not finite (" +
+                  std::to_string(v[i]) + ")");
     }
   }
 }
@@ -34,9 +34,7 @@ void check_finite(const SparseMatrix& M, const char* what) {
   }
 }
 
-std::string dims(const SparseMatrix& M) {
-  return std::to_string(M.rows()) + " x " + std::to_string(M.cols());
-}
+std::string dims(const SparseMatrix& M) { return std::to_string(M.rows()) + " x " + std::to_string(M.cols()); }
 
 }  // namespace
 
@@ -47,8 +45,8 @@ void validate(const ConicProblem& p) {
     throw Error("conic problem: A is " + dims(p.A) + " but c has " + std::to_string(n) + " entries");
   }
   if (p.A.rows() != p.b.size()) {
-    throw Error("conic problem: A has " + std::to_string(p.A.rows()) + " rows but b has " +
-                std::to_string(p.b.size()) + " entries");
+    throw Error("conic problem: A has " + std::to_string(p.A.rows()) + " rows but b has " + std::to_string(p.b.size()) +
+                " entries");
   }
   if (p.has_dense_G()) {
     if (p.G.rows() != 0 || p.G.cols() != 0) throw Error("conic problem: both a sparse and a dense G");
@@ -61,8 +59,8 @@ void validate(const ConicProblem& p) {
     throw Error("conic problem: G is " + dims(p.G) + " but c has " + std::to_string(n) + " entries");
   }
   if (!p.has_dense_G() && p.G.rows() != p.h.size()) {
-    throw Error("conic problem: G has " + std::to_string(p.G.rows()) + " rows but h has " +
-                std::to_string(p.h.size()) + " entries");
+    throw Error("conic problem: G has " + std::to_string(p.G.rows()) + " rows but h has " + std::to_string(p.h.size()) +
+                " entries");
   }
   if (p.cones.nonnegative < 0) throw Error("conic problem: negative orthant dimension");
   for (std::size_t k = 0; k < p.cones.soc.size(); ++k) {
@@ -72,12 +70,12 @@ void validate(const ConicProblem& p) {
     }
   }
   if (p.cones.dim() != p.h.size()) {
-    throw Error("conic problem: cone dimensions sum to " + std::to_string(p.cones.dim()) +
-                " but G and h have " + std::to_string(p.h.size()) + " rows");
+    throw Error("conic problem: cone dimensions sum to " + std::to_string(p.cones.dim()) + " but G and h have " +
+                std::to_string(p.h.size()) + " rows");
   }
   if (p.A.rows() > n) {
-    throw Error("conic problem: more equality constraints (" + std::to_string(p.A.rows()) +
-                ") than variables (" + std::to_string(n) + ")");
+    throw Error("conic problem: more equality constraints (" + std::to_string(p.A.rows()) + ") than variables (" +
+                std::to_string(n) + ")");
   }
   check_finite(p.c, "c");
   check_finite(p.b, "b");

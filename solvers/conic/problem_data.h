@@ -15,9 +15,9 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 struct ConicProblem {
   Eigen::VectorXd c;
-  SparseMatrix A;   // p x n (p may be 0)
+  SparseMatrix A;  // p x n (p may be 0)
   Eigen::VectorXd b;
-  SparseMatrix G;   // m x n, m = cones.dim()
+  SparseMatrix G;  // m x n, m = cones.dim()
   // Or G as a dense m x n matrix (then G stays 0 x 0): for a G with few columns that are
   // mostly full, as the paper's full form (7 columns, n+1 rows of 6 Jacobian entries), built
   // straight into the layout the solver multiplies with (constraint_matrix.h).

@@ -35,12 +35,12 @@ void compute_residuals(const ConicProblem& sp, const ConstraintMatrix& G, const 
   const auto gxs_o = (gx + v.s).cwiseQuotient(eq.row_cone);
   const double tau = v.tau;
   const double nb = std::max(1.0, op.b.norm()), nh = std::max(1.0, op.h.norm()), nc = std::max(1.0, op.c.norm());
-  r.primal_residual = std::max(p > 0 ? (ax_o / tau - op.b).norm() / nb : 0.0,
-                               m > 0 ? (gxs_o / tau - op.h).norm() / nh : 0.0);
+  r.primal_residual =
+      std::max(p > 0 ? (ax_o / tau - op.b).norm() / nb : 0.0, m > 0 ? (gxs_o / tau - op.h).norm() / nh : 0.0);
   // Block by block too (certificate.h): the same measure the returned point is certified on.
   if (p > 0) {
-    r.primal_residual = std::max(r.primal_residual, blockwise_residual(nullptr, p, ax.data(), nullptr, op.b.data(),
-                                                                       eq.row_eq.data(), tau));
+    r.primal_residual = std::max(
+        r.primal_residual, blockwise_residual(nullptr, p, ax.data(), nullptr, op.b.data(), eq.row_eq.data(), tau));
   }
   if (m > 0) {
     r.gxs = gx + v.s;
@@ -93,9 +93,9 @@ ResidualFloors residual_floors(const ConicProblem& sp, const ConstraintMatrix& G
     const Eigen::VectorXd primal_a = sp.A.cwiseAbs() * v.x.cwiseAbs() + sp.b.cwiseAbs() * v.tau;
     pa = eps * std::sqrt(static_cast<double>(n + 1)) * primal_a.cwiseQuotient(eq.row_eq).norm() / v.tau / nb;
   }
-  const double pg = m > 0 ? eps * std::sqrt(static_cast<double>(n + 2)) *
-                                primal_g.cwiseQuotient(eq.row_cone).norm() / v.tau / nh
-                          : 0.0;
+  const double pg =
+      m > 0 ? eps * std::sqrt(static_cast<double>(n + 2)) * primal_g.cwiseQuotient(eq.row_cone).norm() / v.tau / nh
+            : 0.0;
   f.primal = std::max(pa, pg);
   return f;
 }

@@ -35,9 +35,7 @@ Eigen::MatrixXd EuclideanManifold::plus_jacobian(const Eigen::VectorXd&) const {
   return Eigen::MatrixXd::Identity(n_, n_);
 }
 
-Eigen::VectorXd EuclideanManifold::minus(const Eigen::VectorXd& y, const Eigen::VectorXd& x) const {
-  return y - x;
-}
+Eigen::VectorXd EuclideanManifold::minus(const Eigen::VectorXd& y, const Eigen::VectorXd& x) const { return y - x; }
 
 Eigen::VectorXd Se3Manifold::retract(const Eigen::VectorXd& x, const Eigen::VectorXd& delta) const {
   return se3::to_ambient(se3::retract(se3::from_ambient(x), delta.head<6>()));

@@ -59,9 +59,7 @@ Vector6d log(const Eigen::Isometry3d& T) {
 }
 
 // Left-perturbation retraction: T (+) d = exp(d) * T.
-Eigen::Isometry3d retract(const Eigen::Isometry3d& T, const Vector6d& d) {
-  return exp(d) * T;
-}
+Eigen::Isometry3d retract(const Eigen::Isometry3d& T, const Vector6d& d) { return exp(d) * T; }
 
 Vector7d to_ambient(const Eigen::Isometry3d& T) {
   Eigen::Quaterniond q(T.linear());
@@ -81,8 +79,6 @@ Eigen::Isometry3d from_ambient(const Eigen::Ref<const Eigen::VectorXd>& x) {
 }
 
 // Rotation angle of a pose in radians (for error reports).
-double rotation_angle(const Eigen::Isometry3d& T) {
-  return Eigen::AngleAxisd(T.linear()).angle();
-}
+double rotation_angle(const Eigen::Isometry3d& T) { return Eigen::AngleAxisd(T.linear()).angle(); }
 
 }  // namespace bivo::solvers::se3

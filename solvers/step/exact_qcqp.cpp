@@ -104,7 +104,8 @@ ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel&
       Q = Eigen::MatrixXd::Identity(n, n);
     } else {
       Q.resize(n, static_cast<Eigen::Index>(keep.size()));
-      for (std::size_t k = 0; k < keep.size(); ++k) Q.col(static_cast<Eigen::Index>(k)) = eig.eigenvectors().col(keep[k]);
+      for (std::size_t k = 0; k < keep.size(); ++k)
+        Q.col(static_cast<Eigen::Index>(k)) = eig.eigenvectors().col(keep[k]);
     }
   }
   ExactQcqpResult res;
@@ -169,7 +170,7 @@ ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel&
     d = K.solve(-(r1.b + mu * r2.b));
     phi = r2.value(d);
     const Eigen::VectorXd g = r2.H * d + r2.b;  // half the gradient of m_2 at d
-    dphi = -2.0 * g.dot(K.solve(g));             // d phi / d mu
+    dphi = -2.0 * g.dot(K.solve(g));            // d phi / d mu
     ++res.iterations;
   };
   const double target = 1.0 / std::sqrt(epsilon - phiinf);
@@ -229,8 +230,8 @@ ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel&
   res.mu = best_mu;
   res.active = true;
   std::ostringstream msg;
-  msg << (converged ? "active, mu found" : "active, iteration limit; best feasible mu") << " (|m_2 - eps| = "
-      << std::abs(best_phi - epsilon) << ")";
+  msg << (converged ? "active, mu found" : "active, iteration limit; best feasible mu")
+      << " (|m_2 - eps| = " << std::abs(best_phi - epsilon) << ")";
   res.status = msg.str();
   return finish(best_d);
 }

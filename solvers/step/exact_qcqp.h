@@ -30,26 +30,24 @@ struct ExactQcqpOptions {
 
 struct ExactQcqpResult {
   Eigen::VectorXd delta;
-  double mu = 0.0;          // +inf when infeasible
+  double mu = 0.0;  // +inf when infeasible
   bool feasible = true;
-  bool active = false;      // constraint active (mu > 0)
+  bool active = false;        // constraint active (mu > 0)
   double m1 = 0.0, m2 = 0.0;  // model values at delta
-  double min_m2 = 0.0;      // the model's minimum of m_2 (when computed: active or infeasible)
-  int iterations = 0;       // evaluations of d(mu)
+  double min_m2 = 0.0;        // the model's minimum of m_2 (when computed: active or infeasible)
+  int iterations = 0;         // evaluations of d(mu)
   std::string status;
 };
 
 // Throws bivo::Error on epsilon < 0 / NaN, size mismatch or non-finite models.
-ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel& m2,
-                                 double epsilon, const ExactQcqpOptions& options = {});
+ExactQcqpResult solve_qcqp_exact(const QuadraticModel& m1, const QuadraticModel& m2, double epsilon,
+                                 const ExactQcqpOptions& options = {});
 
 class ExactQcqpBackend final : public StepBackend {
  public:
   explicit ExactQcqpBackend(ExactQcqpOptions options = {}) : options_(options) {}
   std::string name() const override { return "exact"; }
-  bool supports(ScalarizationKind kind) const override {
-    return kind == ScalarizationKind::kEpsilonConstraint;
-  }
+  bool supports(ScalarizationKind kind) const override { return kind == ScalarizationKind::kEpsilonConstraint; }
   StepResult solve(const Subproblem& subproblem) override;
 
  private:

@@ -18,9 +18,8 @@ StepResult GaussNewtonBackend::solve(const Subproblem& sp) {
   r.delta = s.x;
   r.multiplier = sp.lambda;
   r.iterations = 1;
-  r.status = s.rank_deficient ? "rank-deficient system, minimum-norm step (rank " +
-                                    std::to_string(s.rank) + ")"
-                              : "LDL^T";
+  r.status =
+      s.rank_deficient ? "rank-deficient system, minimum-norm step (rank " + std::to_string(s.rank) + ")" : "LDL^T";
   return r;
 }
 

@@ -12,9 +12,7 @@ namespace bivo::solvers {
 class GaussNewtonBackend final : public StepBackend {
  public:
   std::string name() const override { return "gn"; }
-  bool supports(ScalarizationKind kind) const override {
-    return kind == ScalarizationKind::kWeightedSum;
-  }
+  bool supports(ScalarizationKind kind) const override { return kind == ScalarizationKind::kWeightedSum; }
   StepResult solve(const Subproblem& subproblem) override;
 };
 

@@ -1,7 +1,7 @@
 #include "solvers/step/ipm_compressed_backend.h"
 
-#include "solvers/step/qcqp_socp.h"
 #include "solvers/error.h"
+#include "solvers/step/qcqp_socp.h"
 
 namespace bivo::solvers {
 

@@ -1,7 +1,7 @@
 #include "solvers/step/ipm_full_backend.h"
 
-#include "solvers/step/qcqp_socp.h"
 #include "solvers/error.h"
+#include "solvers/step/qcqp_socp.h"
 
 namespace bivo::solvers {
 
@@ -14,8 +14,8 @@ StepResult IpmFullBackend::solve(const Subproblem& sp) {
     throw Error("ipm-full: the linearization has no full residuals/Jacobians (LinearizeOptions::want_full)");
   }
   const conic::QcqpConeStep s = conic::with_compressed_fallback(
-      conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_, workspace_), lin.f1, lin.f2, sp.epsilon,
-      settings_);
+      conic::solve_qcqp_full(*lin.full1, *lin.full2, lin.f2, sp.epsilon, settings_, workspace_), lin.f1, lin.f2,
+      sp.epsilon, settings_);
   conic::record_phases(s.timings, sp.profile);
   return conic::to_step_result(s);
 }

@@ -7,9 +7,9 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/error.h"
 #include "solvers/step/qcqp_socp.h"
 #include "solvers/step/scaled_qcqp.h"
-#include "solvers/error.h"
 #include "solvers/whole/ipopt_one_constraint.h"
 
 namespace bivo::solvers {

@@ -20,9 +20,7 @@ class LevenbergMarquardtBackend final : public StepBackend {
   explicit LevenbergMarquardtBackend(LevenbergMarquardtOptions options = {})
       : options_(options), nu_(options.initial_damping) {}
   std::string name() const override { return "lm"; }
-  bool supports(ScalarizationKind kind) const override {
-    return kind == ScalarizationKind::kWeightedSum;
-  }
+  bool supports(ScalarizationKind kind) const override { return kind == ScalarizationKind::kWeightedSum; }
   StepResult solve(const Subproblem& subproblem) override;
   void reset() override { nu_ = options_.initial_damping; }
   bool wants_acceptance_test() const override { return true; }

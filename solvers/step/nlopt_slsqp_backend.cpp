@@ -7,9 +7,9 @@
 
 #include <Eigen/Dense>
 
+#include "solvers/error.h"
 #include "solvers/step/qcqp_socp.h"
 #include "solvers/step/scaled_qcqp.h"
-#include "solvers/error.h"
 
 namespace bivo::solvers {
 
@@ -24,14 +24,16 @@ double objective(const std::vector<double>& y, std::vector<double>& grad, void* 
   auto* c = static_cast<Counted*>(data);
   ++c->evaluations;
   const Eigen::Map<const Eigen::VectorXd> yv(y.data(), static_cast<Eigen::Index>(y.size()));
-  if (!grad.empty()) Eigen::Map<Eigen::VectorXd>(grad.data(), static_cast<Eigen::Index>(grad.size())) = c->q->grad_f(yv);
+  if (!grad.empty())
+    Eigen::Map<Eigen::VectorXd>(grad.data(), static_cast<Eigen::Index>(grad.size())) = c->q->grad_f(yv);
   return c->q->f(yv);
 }
 
 double constraint(const std::vector<double>& y, std::vector<double>& grad, void* data) {
   const auto* c = static_cast<Counted*>(data);
   const Eigen::Map<const Eigen::VectorXd> yv(y.data(), static_cast<Eigen::Index>(y.size()));
-  if (!grad.empty()) Eigen::Map<Eigen::VectorXd>(grad.data(), static_cast<Eigen::Index>(grad.size())) = c->q->grad_g(yv);
+  if (!grad.empty())
+    Eigen::Map<Eigen::VectorXd>(grad.data(), static_cast<Eigen::Index>(grad.size())) = c->q->grad_g(yv);
   return c->q->g(yv);
 }
 
@@ -79,7 +81,8 @@ StepResult NloptSlsqpBackend::solve(const Subproblem& sp) {
   r.multiplier = q.to_mu(lambda);
   r.iterations = data.evaluations;
   r.status = (res > 0 ? "optimal (nlopt code " + std::to_string(static_cast<int>(res)) + ")"
-                      : "nlopt code " + std::to_string(static_cast<int>(res))) + note;
+                      : "nlopt code " + std::to_string(static_cast<int>(res))) +
+             note;
   return r;
 }
 

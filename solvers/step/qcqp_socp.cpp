@@ -27,11 +27,12 @@ void check_data(const ResidualData& f, const char* which, int dim) {
                 " (full residuals with Jacobians requested?)");
   }
   // The common case in vectorized passes; the loop names the first bad entry.
-  const bool ok = kernels::all_finite(n, f.w.data()) && kernels::all_finite(n, f.r.data()) && (n == 0 || f.w.minCoeff() >= 0.0);
+  const bool ok =
+      kernels::all_finite(n, f.w.data()) && kernels::all_finite(n, f.r.data()) && (n == 0 || f.w.minCoeff() >= 0.0);
   for (Eigen::Index i = 0; i < n && !ok; ++i) {
     if (!(f.w[i] >= 0.0) || !std::isfinite(f.w[i]) || !std::isfinite(f.r[i])) {
-      throw Error(std::string("qcqp socp: ") + which + " residual " + std::to_string(i) + " has r = " +
-                  std::to_string(f.r[i]) + ", w = " + std::to_string(f.w[i]));
+      throw Error(std::string("qcqp socp: ") + which + " residual " + std::to_string(i) +
+                  " has r = " + std::to_string(f.r[i]) + ", w = " + std::to_string(f.w[i]));
     }
   }
   if (!kernels::all_finite(f.J.size(), f.J.data())) {
@@ -192,14 +193,14 @@ ConicProblem compressed_qcqp_socp(const ConeFactor& f1, const ConeFactor& f2, do
   return p;
 }
 
-QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
-                             double epsilon, const IpmSettings& settings) {
+QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2, double epsilon,
+                             const IpmSettings& settings) {
   FullFormWorkspace workspace;
   return solve_qcqp_full(f1, f2, m2, epsilon, settings, workspace);
 }
 
-QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
-                             double epsilon, const IpmSettings& settings, FullFormWorkspace& workspace) {
+QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2, double epsilon,
+                             const IpmSettings& settings, FullFormWorkspace& workspace) {
   check_epsilon(epsilon);
   const int dim = static_cast<int>(f1.J.cols());
   if (epsilon <= factor_from_model(m2).floor) return infeasible_step(m2);
@@ -215,8 +216,8 @@ QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, con
   return read_solution(r, dim, static_cast<int>(f1.r.size()) + 1, std::sqrt(e1), std::sqrt(epsilon), m2);
 }
 
-QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2,
-                                   double epsilon, const IpmSettings& settings) {
+QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2, double epsilon,
+                                   const IpmSettings& settings) {
   check_epsilon(epsilon);
   const int dim = static_cast<int>(f1.c.size());
   if (epsilon <= f2.floor) return infeasible_step(m2);

@@ -55,7 +55,8 @@ struct QcqpConeStep {
 
 // Eq. `SOCP in our method` verbatim (rows of invalid terms included as zero rows).
 ConicProblem full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsilon);
-void full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsilon, ConicProblem& out);  // in out's buffers
+void full_qcqp_socp(const ResidualData& f1, const ResidualData& f2, double epsilon,
+                    ConicProblem& out);  // in out's buffers
 
 // What solve_qcqp_full allocates, kept from one step to the next (the full form's SOCP and
 // the IPM's buffers, ipm_solver.h): a step backend keeps one, so a step of the same image
@@ -69,12 +70,12 @@ ConicProblem compressed_qcqp_socp(const ConeFactor& f1, const ConeFactor& f2, do
 // Both check feasibility first from m2's floor: epsilon <= floor -> infeasible, the step is
 // m2's minimum-norm minimizer, mu = +inf, no IPM call. Throws bivo::Error on bad sizes,
 // negative weights, non-finite data or epsilon < 0 / NaN.
-QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
-                             double epsilon, const IpmSettings& settings = step_ipm_settings());
-QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2,
-                             double epsilon, const IpmSettings& settings, FullFormWorkspace& workspace);
-QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2,
-                                   double epsilon, const IpmSettings& settings = step_ipm_settings());
+QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2, double epsilon,
+                             const IpmSettings& settings = step_ipm_settings());
+QcqpConeStep solve_qcqp_full(const ResidualData& f1, const ResidualData& f2, const QuadraticModel& m2, double epsilon,
+                             const IpmSettings& settings, FullFormWorkspace& workspace);
+QcqpConeStep solve_qcqp_compressed(const ConeFactor& f1, const ConeFactor& f2, const QuadraticModel& m2, double epsilon,
+                                   const IpmSettings& settings = step_ipm_settings());
 
 // The full form's own answer is the exact step only when it is a clean polished optimum: the
 // IPM alone leaves ~1e-5 in d (its cone objective keeps F_1's floor inside t), and at

@@ -14,8 +14,8 @@ ScaledQcqp scale_qcqp(const QuadraticModel& m1, const QuadraticModel& m2, double
     throw Error("qcqp: models of different sizes (b1 has " + std::to_string(n) + " entries, b2 " +
                 std::to_string(m2.b.size()) + ")");
   }
-  if (!m1.H.allFinite() || !m2.H.allFinite() || !m1.b.allFinite() || !m2.b.allFinite() ||
-      !std::isfinite(m1.a) || !std::isfinite(m2.a)) {
+  if (!m1.H.allFinite() || !m2.H.allFinite() || !m1.b.allFinite() || !m2.b.allFinite() || !std::isfinite(m1.a) ||
+      !std::isfinite(m2.a)) {
     throw Error("qcqp: quadratic models have non-finite entries");
   }
   if (!(epsilon >= 0.0) || !std::isfinite(epsilon)) {

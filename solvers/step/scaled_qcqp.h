@@ -16,7 +16,7 @@ struct ScaledQcqp {
   Eigen::VectorXd S;       // d = S .* y
   Eigen::MatrixXd H1, H2;  // scaled
   Eigen::VectorXd b1, b2;
-  double c2 = 0.0;         // a2 - eps
+  double c2 = 0.0;  // a2 - eps
   double s1 = 1.0, s2 = 1.0;
 
   int dim() const { return static_cast<int>(S.size()); }

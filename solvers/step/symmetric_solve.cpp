@@ -5,8 +5,7 @@
 
 namespace bivo::solvers {
 
-SymmetricSolve solve_symmetric_psd(const Eigen::MatrixXd& A, const Eigen::VectorXd& rhs,
-                                   double rank_tolerance) {
+SymmetricSolve solve_symmetric_psd(const Eigen::MatrixXd& A, const Eigen::VectorXd& rhs, double rank_tolerance) {
   SymmetricSolve out;
   const Eigen::Index n = A.rows();
   // LDL^T is the fast path; its pivots bound the conditioning well enough to decide when the

@@ -12,7 +12,6 @@ struct SymmetricSolve {
   int rank = 0;
 };
 
-SymmetricSolve solve_symmetric_psd(const Eigen::MatrixXd& A, const Eigen::VectorXd& rhs,
-                                   double rank_tolerance = 1e-13);
+SymmetricSolve solve_symmetric_psd(const Eigen::MatrixXd& A, const Eigen::VectorXd& rhs, double rank_tolerance = 1e-13);
 
 }  // namespace bivo::solvers

@@ -16,9 +16,7 @@ namespace {
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-Eigen::MatrixXd pseudo_inverse(const Eigen::MatrixXd& P) {
-  return P.completeOrthogonalDecomposition().pseudoInverse();
-}
+Eigen::MatrixXd pseudo_inverse(const Eigen::MatrixXd& P) { return P.completeOrthogonalDecomposition().pseudoInverse(); }
 
 // Our Manifold seen by Ceres. For SE(3) the quaternion's sign is kept continuous with x
 // (our retract normalizes but may flip it), which Ceres' Plus must be.
@@ -107,7 +105,12 @@ class RecordingCallback final : public ceres::IterationCallback {
  public:
   RecordingCallback(BiObjectiveProblem& problem, const double* x, int n, double lambda, Summary& summary, int verbosity,
                     int first_iteration)
-      : problem_(problem), x_(x), n_(n), lambda_(lambda), summary_(summary), verbosity_(verbosity),
+      : problem_(problem),
+        x_(x),
+        n_(n),
+        lambda_(lambda),
+        summary_(summary),
+        verbosity_(verbosity),
         offset_(first_iteration) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
@@ -250,8 +253,8 @@ class CeresBackend final : public WholeProblemBackend {
       if (cs.termination_type == ceres::NO_CONVERGENCE) continue;  // budget decides
       const bool no_decrease = cs.initial_cost - cs.final_cost <= options.relative_decrease_tolerance * cs.initial_cost;
       if (round > 0 && (moved < options.step_tolerance || no_decrease)) {
-        summary.termination = moved < options.step_tolerance ? TerminationReason::kStepTolerance
-                                                             : TerminationReason::kRelativeDecrease;
+        summary.termination =
+            moved < options.step_tolerance ? TerminationReason::kStepTolerance : TerminationReason::kRelativeDecrease;
         summary.message = std::to_string(rounds) + " weight rounds; last: " + cs.message;
         break;
       }

@@ -124,15 +124,24 @@ class EpsilonNlp final : public OneConstraintTnlp {
 
 const char* ipopt_status_name(Ipopt::SolverReturn s) {
   switch (s) {
-    case Ipopt::SUCCESS: return "optimal";
-    case Ipopt::STOP_AT_ACCEPTABLE_POINT: return "acceptable";
-    case Ipopt::MAXITER_EXCEEDED: return "max iterations";
-    case Ipopt::LOCAL_INFEASIBILITY: return "locally infeasible";
-    case Ipopt::STOP_AT_TINY_STEP: return "tiny step";
-    case Ipopt::RESTORATION_FAILURE: return "restoration failure";
-    case Ipopt::ERROR_IN_STEP_COMPUTATION: return "error in step computation";
-    case Ipopt::INVALID_NUMBER_DETECTED: return "invalid number";
-    default: return "failure";
+    case Ipopt::SUCCESS:
+      return "optimal";
+    case Ipopt::STOP_AT_ACCEPTABLE_POINT:
+      return "acceptable";
+    case Ipopt::MAXITER_EXCEEDED:
+      return "max iterations";
+    case Ipopt::LOCAL_INFEASIBILITY:
+      return "locally infeasible";
+    case Ipopt::STOP_AT_TINY_STEP:
+      return "tiny step";
+    case Ipopt::RESTORATION_FAILURE:
+      return "restoration failure";
+    case Ipopt::ERROR_IN_STEP_COMPUTATION:
+      return "error in step computation";
+    case Ipopt::INVALID_NUMBER_DETECTED:
+      return "invalid number";
+    default:
+      return "failure";
   }
 }
 
@@ -196,8 +205,9 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       }
       const double f_scale = std::max(lin.f1.a, 1e-300);
 
-      Ipopt::SmartPtr<Ipopt::IpoptApplication> app = make_ipopt(
-          "ipopt-nlp", options.verbosity > 1 ? 5 : 0, 1e-10, budget, {{"constr_viol_tol", 1e-10}, {"acceptable_tol", 1e-8}});
+      Ipopt::SmartPtr<Ipopt::IpoptApplication> app =
+          make_ipopt("ipopt-nlp", options.verbosity > 1 ? 5 : 0, 1e-10, budget,
+                     {{"constr_viol_tol", 1e-10}, {"acceptable_tol", 1e-8}});
       auto* raw = new EpsilonNlp(problem, x, epsilon, f_scale);
       Ipopt::SmartPtr<Ipopt::TNLP> nlp = raw;
       const auto t_solve = std::chrono::steady_clock::now();
@@ -244,8 +254,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       }
       const double moved = m.minus(x_new, x).norm();
       x = x_new;
-      summary.multiplier = infeasible ? std::numeric_limits<double>::infinity()
-                                      : std::max(0.0, raw->lambda_final) * f_scale / epsilon;
+      summary.multiplier =
+          infeasible ? std::numeric_limits<double>::infinity() : std::max(0.0, raw->lambda_final) * f_scale / epsilon;
       last_feasible = !infeasible;
 
       IterationRecord rec;
@@ -269,8 +279,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       if (infeasible) {
         summary.termination = TerminationReason::kBackendFailure;
         std::ostringstream msg;
-        msg << "epsilon infeasible: Ipopt found no x with F_2 <= epsilon = " << epsilon
-            << " (least F_2 reached " << f_new[1] << ")";
+        msg << "epsilon infeasible: Ipopt found no x with F_2 <= epsilon = " << epsilon << " (least F_2 reached "
+            << f_new[1] << ")";
         summary.message = msg.str();
         break;
       }

@@ -38,8 +38,7 @@ bool OneConstraintTnlp::eval_g(Index n, const Number* x, bool, Index, Number* g)
   return constraint(Point(x, n), g[0]);
 }
 
-bool OneConstraintTnlp::eval_jac_g(Index n, const Number* x, bool, Index, Index, Index* rows, Index* cols,
-                                   Number* v) {
+bool OneConstraintTnlp::eval_jac_g(Index n, const Number* x, bool, Index, Index, Index* rows, Index* cols, Number* v) {
   if (v == nullptr) {
     for (Index i = 0; i < n; ++i) rows[i] = 0, cols[i] = i;
     return true;
@@ -72,8 +71,7 @@ void OneConstraintTnlp::finalize_solution(Ipopt::SolverReturn st, Index n, const
   lambda_final = lam[0];
 }
 
-Ipopt::SmartPtr<Ipopt::IpoptApplication> make_ipopt(const std::string& who, int print_level, double tol,
-                                                    int max_iter,
+Ipopt::SmartPtr<Ipopt::IpoptApplication> make_ipopt(const std::string& who, int print_level, double tol, int max_iter,
                                                     std::initializer_list<std::pair<const char*, double>> extra) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", print_level);

@@ -57,8 +57,7 @@ class OneConstraintTnlp : public Ipopt::TNLP {
 // no banner, and bound_relax_factor = 0 (Debian's Ipopt 3.11 otherwise violates the
 // constraint by ~1e-8 relative). Throws bivo::Error naming `who` if initialization fails.
 // `extra`: further numeric options, set before initialization.
-Ipopt::SmartPtr<Ipopt::IpoptApplication> make_ipopt(
-    const std::string& who, int print_level, double tol, int max_iter,
-    std::initializer_list<std::pair<const char*, double>> extra = {});
+Ipopt::SmartPtr<Ipopt::IpoptApplication> make_ipopt(const std::string& who, int print_level, double tol, int max_iter,
+                                                    std::initializer_list<std::pair<const char*, double>> extra = {});
 
 }  // namespace bivo::solvers

@@ -117,8 +117,8 @@ void cbf(const std::uint8_t* data, std::size_t size) {
 }
 
 const std::vector<Harness>& harnesses() {
-  static const std::vector<Harness> all = {{"tum_list", tum_list}, {"trajectory", trajectory}, {"png", png},
-                                           {"conic_json", conic_json}, {"cbf", cbf}};
+  static const std::vector<Harness> all = {
+      {"tum_list", tum_list}, {"trajectory", trajectory}, {"png", png}, {"conic_json", conic_json}, {"cbf", cbf}};
   return all;
 }
 

@@ -63,7 +63,8 @@ void write_cbf(const fs::path& file, const solvers::conic::ConicProblem& p) {
     if (p.h[i] != 0.0) entry(b, std::to_string(eq + i), p.h[i]);
   }
   std::ofstream out(file);
-  out << "# written by bivo_fuzz_seeds\nVER\n3\n\nOBJSENSE\nMIN\n\nVAR\n" << n << " 1\nF " << n << "\n\nCON\n"
+  out << "# written by bivo_fuzz_seeds\nVER\n3\n\nOBJSENSE\nMIN\n\nVAR\n"
+      << n << " 1\nF " << n << "\n\nCON\n"
       << eq + p.num_cone_rows() << " " << cones.size() << "\n";
   for (const auto& line : cones) out << line << "\n";
   const auto block = [&out](const char* key, const std::vector<std::string>& lines) {
@@ -132,7 +133,8 @@ void write_seeds(const std::string& dir) {
   }
   namespace conic = solvers::conic;
   const conic::SyntheticStep step = conic::make_synthetic_step(12, 7);
-  write_cbf(root / "cbf" / "paper_socp_full.cbf", conic::full_qcqp_socp(*step.lin.full1, *step.lin.full2, step.epsilon));
+  write_cbf(root / "cbf" / "paper_socp_full.cbf",
+            conic::full_qcqp_socp(*step.lin.full1, *step.lin.full2, step.epsilon));
   write_cbf(root / "cbf" / "paper_socp_compressed.cbf",
             conic::compressed_qcqp_socp(conic::factor_from_model(step.lin.f1), conic::factor_from_model(step.lin.f2),
                                         step.epsilon));

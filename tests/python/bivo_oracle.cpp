@@ -23,9 +23,9 @@
 #include "problems/point_alignment_pair.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
+#include "solvers/geometry/se3.h"
 #include "solvers/outer_loop.h"
 #include "solvers/pareto.h"
-#include "solvers/geometry/se3.h"
 
 namespace {
 
@@ -60,10 +60,12 @@ Instance instance(const std::string& spec) {
   }
   Instance in;
   if (kind == "lls") {
-    in.problem = std::make_unique<problems::LinearLeastSquaresPair>(problems::LinearLeastSquaresPair::well_conditioned(n.at(0), n.at(1)));
+    in.problem = std::make_unique<problems::LinearLeastSquaresPair>(
+        problems::LinearLeastSquaresPair::well_conditioned(n.at(0), n.at(1)));
     in.x0 = Eigen::VectorXd::Zero(n.at(0));
   } else if (kind == "exp") {
-    in.problem = std::make_unique<problems::ExponentialDecayPair>(problems::ExponentialDecayPair::synthetic(n.at(0), n.at(1)));
+    in.problem =
+        std::make_unique<problems::ExponentialDecayPair>(problems::ExponentialDecayPair::synthetic(n.at(0), n.at(1)));
     in.x0 = Eigen::Vector3d(1.0, 1.0, 1.0);
   } else if (kind == "se3") {
     in.problem = std::make_unique<problems::PointAlignmentPair>(n.at(0));
@@ -95,8 +97,10 @@ json summary_json(const solvers::Summary& s, const Eigen::VectorXd& x) {
 json solve(const std::string& spec, const std::string& backend, const std::string& kind, double param) {
   Instance in = instance(spec);
   std::unique_ptr<solvers::Scalarization> s;
-  if (kind == "ws") s = std::make_unique<solvers::WeightedSum>(param);
-  else s = std::make_unique<solvers::EpsilonConstraint>(param);
+  if (kind == "ws")
+    s = std::make_unique<solvers::WeightedSum>(param);
+  else
+    s = std::make_unique<solvers::EpsilonConstraint>(param);
   Eigen::VectorXd x = in.x0;
   return summary_json(solvers::solve(*in.problem, *s, backend, x, {}), x);
 }
@@ -124,8 +128,12 @@ json pareto(const std::string& spec, const std::string& kind, int points, const 
 
 json conic(const std::string& path) {
   const auto r = solvers::conic::solve_conic(experiments::read_conic_json(path));
-  return {{"x", vec(r.x)}, {"y", vec(r.y)}, {"z", vec(r.z)}, {"s", vec(r.s)},
-          {"status", solvers::conic::to_string(r.status)}, {"iterations", r.iterations},
+  return {{"x", vec(r.x)},
+          {"y", vec(r.y)},
+          {"z", vec(r.z)},
+          {"s", vec(r.s)},
+          {"status", solvers::conic::to_string(r.status)},
+          {"iterations", r.iterations},
           {"primal_objective", r.primal_objective}};
 }
 
@@ -162,7 +170,9 @@ json track(const std::string& seq, const std::string& method, const std::string&
 
 json metrics(const std::string& gt, const std::string& est, double delta) {
   const auto e = experiments::evaluate_trajectory_files(gt, est, delta);
-  return {{"rpe_trans_rmse", e.rpe.trans_rmse}, {"rpe_rot_rmse_deg", e.rpe.rot_rmse_deg}, {"ate_rmse", e.ate.rmse},
+  return {{"rpe_trans_rmse", e.rpe.trans_rmse},
+          {"rpe_rot_rmse_deg", e.rpe.rot_rmse_deg},
+          {"ate_rmse", e.ate.rmse},
           {"rpe_pairs", e.rpe.pairs.size()}};
 }
 
@@ -172,13 +182,20 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> a(argv + 1, argv + argc);
     json out;
-    if (a.size() == 5 && a[0] == "solve") out = solve(a[1], a[2], a[3], std::stod(a[4]));
-    else if (a.size() == 5 && a[0] == "pareto") out = pareto(a[1], a[2], std::stoi(a[3]), a[4]);
-    else if (a.size() == 2 && a[0] == "conic") out = conic(a[1]);
-    else if (a.size() == 7 && a[0] == "pair") out = pair(a[1], std::stoi(a[2]), std::stoi(a[3]), std::stoi(a[4]), a[5], a[6]);
-    else if (a.size() == 5 && a[0] == "track") out = track(a[1], a[2], a[3], std::stoi(a[4]));
-    else if (a.size() == 4 && a[0] == "metrics") out = metrics(a[1], a[2], std::stod(a[3]));
-    else throw bivo::Error("usage: see the header of tests/python/bivo_oracle.cpp");
+    if (a.size() == 5 && a[0] == "solve")
+      out = solve(a[1], a[2], a[3], std::stod(a[4]));
+    else if (a.size() == 5 && a[0] == "pareto")
+      out = pareto(a[1], a[2], std::stoi(a[3]), a[4]);
+    else if (a.size() == 2 && a[0] == "conic")
+      out = conic(a[1]);
+    else if (a.size() == 7 && a[0] == "pair")
+      out = pair(a[1], std::stoi(a[2]), std::stoi(a[3]), std::stoi(a[4]), a[5], a[6]);
+    else if (a.size() == 5 && a[0] == "track")
+      out = track(a[1], a[2], a[3], std::stoi(a[4]));
+    else if (a.size() == 4 && a[0] == "metrics")
+      out = metrics(a[1], a[2], std::stod(a[3]));
+    else
+      throw bivo::Error("usage: see the header of tests/python/bivo_oracle.cpp");
     std::cout << out.dump() << "\n";
     return 0;
   } catch (const std::exception& e) {

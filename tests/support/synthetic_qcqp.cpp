@@ -76,9 +76,7 @@ SyntheticStep make_synthetic_step(int n, std::uint32_t seed, const SyntheticStep
     Eigen::Matrix<double, 2, 3> dpi;
     dpi << fx / Z, 0, -fx * X / (Z * Z), 0, fy / Z, -fy * Y / (Z * Z);
     Eigen::Matrix<double, 3, 6> dP;  // d(exp(d) P)/dd = [I, -[P]x]
-    dP << 1, 0, 0, 0, Z, -Y,
-          0, 1, 0, -Z, 0, X,
-          0, 0, 1, Y, -X, 0;
+    dP << 1, 0, 0, 0, Z, -Y, 0, 1, 0, -Z, 0, X, 0, 0, 1, Y, -X, 0;
     if (u01(rng) < o.invalid_fraction) {  // invalid pixel: no depth / out of view
       f1.r[i] = f2.r[i] = 0.0;
       f1.J.row(i).setZero();

@@ -22,10 +22,10 @@ struct SyntheticStep {
 };
 
 struct SyntheticStepOptions {
-  int width = 0, height = 0;       // 0: a 4:3 grid of about n pixels (make_synthetic_step)
+  int width = 0, height = 0;  // 0: a 4:3 grid of about n pixels (make_synthetic_step)
   double invalid_fraction = 0.05;
-  bool t_weights = false;          // t-distribution weights and 5 % outliers (else w1 = 1, w2 = 1/sigma_Z^2)
-  double active_fraction = 0.3;    // epsilon = floor_2 + fraction (m2(argmin m1) - floor_2); > 1: inactive
+  bool t_weights = false;        // t-distribution weights and 5 % outliers (else w1 = 1, w2 = 1/sigma_Z^2)
+  double active_fraction = 0.3;  // epsilon = floor_2 + fraction (m2(argmin m1) - floor_2); > 1: inactive
 };
 
 SyntheticStep make_synthetic_step(int n, std::uint32_t seed, double active_fraction = 0.3);
