@@ -255,7 +255,7 @@ class CeresBackend final : public WholeProblemBackend {
       if (round > 0 && (moved < options.step_tolerance || no_decrease)) {
         summary.termination =
             moved < options.step_tolerance ? TerminationReason::kStepTolerance : TerminationReason::kRelativeDecrease;
-        summary.message = std::to_string(rounds) + " weight rounds; last: " + cs.message;
+        summary.message = std::to_string(rounds) + " weight passes; last: " + cs.message;
         break;
       }
     }

@@ -238,8 +238,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       }
       if (st == Ipopt::MAXITER_EXCEEDED) {
         // An interior-point iterate cut off by the budget need not be better than where the
-        // round started: keep it only when it lowers the violation of F_2 <= epsilon, or stays
-        // feasible and lowers F_1 (a filter test); else the round failed and x stays.
+        // pass started: keep it only when it lowers the violation of F_2 <= epsilon, or stays
+        // feasible and lowers F_1 (a filter test); else the pass failed and x stays.
         const auto f_start = problem.evaluate(x);
         const double v_new = std::max(0.0, f_new[1] - epsilon), v_start = std::max(0.0, f_start[1] - epsilon);
         if (!(v_new < v_start || (v_new == 0.0 && v_start == 0.0 && f_new[0] < f_start[0]))) {
@@ -272,7 +272,7 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       rec.x = x;
       summary.records.push_back(rec);
       if (options.verbosity > 0) {
-        std::fprintf(stderr, "bivo ipopt-nlp round %2d F1 %.6e F2 %.6e mu %.4e |d| %.3e ipopt %s (%d it)\n",
+        std::fprintf(stderr, "bivo ipopt-nlp pass %2d F1 %.6e F2 %.6e mu %.4e |d| %.3e ipopt %s (%d it)\n",
                      rec.iteration, rec.f1, rec.f2, rec.multiplier, moved, ipopt_status_name(st), used);
       }
 
@@ -293,8 +293,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       if (first_move < 0.0) first_move = moved;
       if (round > 0 && moved <= std::max(options.step_tolerance, 1e-7 * (1.0 + first_move))) {
         summary.termination = TerminationReason::kStepTolerance;
-        summary.message = std::to_string(round + 1) + " rounds; Ipopt " + ipopt_status_name(st) +
-                          "; last round moved x by " + std::to_string(moved);
+        summary.message = std::to_string(round + 1) + " passes; Ipopt " + ipopt_status_name(st) +
+                          "; last pass moved x by " + std::to_string(moved);
         break;
       }
     }
