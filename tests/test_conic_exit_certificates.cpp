@@ -21,9 +21,11 @@
 #include "solvers/conic/cones.h"
 #include "solvers/conic/ipm_solver.h"
 #include "solvers/step/qcqp_socp.h"
+#include "tests/support/random_conic.h"
 #include "tests/support/synthetic_qcqp.h"
 
 using namespace bivo::solvers::conic;
+using namespace bivo::solvers::conic::testing;
 
 namespace {
 
@@ -93,36 +95,6 @@ void check_exit(const ConicProblem& p, const IpmResult& r, const std::string& wh
     return;
   }
   ++t.other;  // max iterations / numerical trouble claim nothing
-}
-
-Eigen::VectorXd random_interior(const ConeProduct& K, std::mt19937& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::VectorXd u(K.dim());
-  for (int i = 0; i < K.dim(); ++i) u[i] = g(rng);
-  const double e = K.min_eigenvalue(u);
-  std::uniform_real_distribution<double> margin(0.05, 1.0);
-  K.add_identity(u, -e + margin(rng));
-  return u;
-}
-
-SparseMatrix random_sparse(int rows, int cols, double density, std::mt19937& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, cols);
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j)
-      if (u(rng) < density) M(i, j) = g(rng);
-  return M.sparseView();
-}
-
-ConeSpec random_cones(std::mt19937& rng) {
-  std::uniform_int_distribution<int> l(0, 4), k(0, 3), d(1, 6);
-  ConeSpec spec;
-  spec.nonnegative = l(rng);
-  const int nsoc = k(rng);
-  for (int i = 0; i < nsoc; ++i) spec.soc.push_back(d(rng));
-  if (spec.dim() == 0) spec.nonnegative = 1;
-  return spec;
 }
 
 std::vector<IpmSettings> variants() {

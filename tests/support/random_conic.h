@@ -1,0 +1,47 @@
+#pragma once
+// Random conic problems for the IPM's tests: a cone product, a point strictly inside it and a
+// sparse matrix, all from one generator, so that tests replaying the same seed see the same
+// problems.
+#include <random>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include "solvers/conic/cones.h"
+#include "solvers/conic/problem_data.h"
+
+namespace bivo::solvers::conic::testing {
+
+// u in the interior of K, at least 0.05 from its boundary.
+inline Eigen::VectorXd random_interior(const ConeProduct& K, std::mt19937& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::VectorXd u(K.dim());
+  for (int i = 0; i < K.dim(); ++i) u[i] = g(rng);
+  const double e = K.min_eigenvalue(u);
+  std::uniform_real_distribution<double> margin(0.05, 1.0);
+  K.add_identity(u, -e + margin(rng));
+  return u;
+}
+
+inline SparseMatrix random_sparse(int rows, int cols, double density, std::mt19937& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, cols);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j)
+      if (u(rng) < density) M(i, j) = g(rng);
+  return M.sparseView();
+}
+
+// 0-4 orthant rows and 0-3 second-order cones of dimension 1-6 (never empty).
+inline ConeSpec random_cones(std::mt19937& rng) {
+  std::uniform_int_distribution<int> l(0, 4), k(0, 3), d(1, 6);
+  ConeSpec spec;
+  spec.nonnegative = l(rng);
+  const int nsoc = k(rng);
+  for (int i = 0; i < nsoc; ++i) spec.soc.push_back(d(rng));
+  if (spec.dim() == 0) spec.nonnegative = 1;
+  return spec;
+}
+
+}  // namespace bivo::solvers::conic::testing
