@@ -17,20 +17,13 @@
 #include "test_support.h"
 
 namespace fs = std::filesystem;
+using bivo::testing::contains;
+using bivo::testing::slurp;
 using namespace bivo;
 using bivo::testing::BivoRun;
 using json = nlohmann::json;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::string last_line(const std::string& text) {
   std::string t = text;

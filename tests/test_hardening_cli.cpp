@@ -19,19 +19,12 @@
 #include "test_support.h"
 
 namespace fs = std::filesystem;
+using bivo::testing::contains;
+using bivo::testing::slurp;
 using namespace bivo;
 using bivo::testing::BivoRun;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // One 4-frame synthetic sequence shared by the tests; each test works in its own folder.
 class HardeningCli : public ::testing::Test {

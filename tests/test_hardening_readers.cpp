@@ -24,6 +24,7 @@
 #include "test_support.h"
 
 namespace fs = std::filesystem;
+using bivo::testing::contains;
 using namespace bivo;
 using bivo::testing::error_of;
 
@@ -36,8 +37,6 @@ std::string write_text(const std::string& name, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 struct LimitsGuard {  // restores the process-wide limits after a test changes them
   odometry::io::InputLimits saved = odometry::io::input_limits();

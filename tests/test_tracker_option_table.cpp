@@ -19,6 +19,8 @@
 #include "test_support.h"
 
 namespace fs = std::filesystem;
+using bivo::testing::contains;
+using bivo::testing::slurp;
 using namespace bivo;
 using bivo::experiments::OptionType;
 using bivo::experiments::TrackerOption;
@@ -26,15 +28,6 @@ using bivo::testing::BivoRun;
 using json = nlohmann::json;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 class TrackerOptionSources : public ::testing::Test {
  protected:
