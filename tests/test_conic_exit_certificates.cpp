@@ -111,27 +111,10 @@ std::vector<IpmSettings> variants() {
 // test_conic_ipm's 1000 random strictly feasible SOCPs (same generator, same seed), each in
 // four settings: every optimum claimed must be one.
 TEST(ConicExitCertificates, RandomFeasibleSocps) {
-  std::mt19937 rng(2024);
-  std::uniform_int_distribution<int> nvar(1, 8);
-  std::normal_distribution<double> g(0.0, 1.0);
+  RandomFeasibleSocps problems(2024);
   Tally t;
   for (int trial = 0; trial < 1000; ++trial) {
-    ConicProblem p;
-    p.cones = random_cones(rng);
-    const ConeProduct K(p.cones);
-    const int n = nvar(rng);
-    std::uniform_int_distribution<int> neq(0, std::max(0, std::min(n - 1, 3)));
-    const int np = neq(rng);
-    p.A = random_sparse(np, n, 0.8, rng);
-    p.G = random_sparse(K.dim(), n, 0.6, rng);
-    Eigen::VectorXd x0(n), y0(np);
-    for (int i = 0; i < n; ++i) x0[i] = g(rng);
-    for (int i = 0; i < np; ++i) y0[i] = g(rng);
-    const Eigen::VectorXd s0 = random_interior(K, rng), z0 = random_interior(K, rng);
-    p.b = p.A * x0;
-    p.h = p.G * x0 + s0;
-    p.c = -(p.G.transpose() * z0);
-    if (np) p.c -= p.A.transpose() * y0;
+    const ConicProblem p = problems.next();
     int v = 0;
     for (const IpmSettings& st : variants()) {
       check_exit(p, solve_conic(p, st), "trial " + std::to_string(trial) + " variant " + std::to_string(v++), t);

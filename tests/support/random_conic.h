@@ -2,6 +2,7 @@
 // Random conic problems for the IPM's tests: a cone product, a point strictly inside it and a
 // sparse matrix, all from one generator, so that tests replaying the same seed see the same
 // problems.
+#include <algorithm>
 #include <random>
 
 #include <Eigen/Dense>
@@ -43,5 +44,37 @@ inline ConeSpec random_cones(std::mt19937& rng) {
   if (spec.dim() == 0) spec.nonnegative = 1;
   return spec;
 }
+
+// Feasible, bounded SOCPs with a known interior primal-dual point: x0, y0 free, s0, z0 inside
+// K, b = A x0, h = G x0 + s0, c = -(G'z0 + A'y0). 1-8 variables, 0-3 equalities. The same
+// seed gives the same sequence of problems.
+class RandomFeasibleSocps {
+ public:
+  explicit RandomFeasibleSocps(unsigned seed) : rng_(seed) {}
+  ConicProblem next() {
+    ConicProblem p;
+    p.cones = random_cones(rng_);
+    const ConeProduct K(p.cones);
+    const int n = nvar_(rng_);
+    std::uniform_int_distribution<int> neq(0, std::max(0, std::min(n - 1, 3)));
+    const int np = neq(rng_);
+    p.A = random_sparse(np, n, 0.8, rng_);
+    p.G = random_sparse(K.dim(), n, 0.6, rng_);
+    Eigen::VectorXd x0(n), y0(np);
+    for (int i = 0; i < n; ++i) x0[i] = g_(rng_);
+    for (int i = 0; i < np; ++i) y0[i] = g_(rng_);
+    const Eigen::VectorXd s0 = random_interior(K, rng_), z0 = random_interior(K, rng_);
+    p.b = p.A * x0;
+    p.h = p.G * x0 + s0;
+    p.c = -(p.G.transpose() * z0);
+    if (np) p.c -= p.A.transpose() * y0;
+    return p;
+  }
+
+ private:
+  std::mt19937 rng_;
+  std::uniform_int_distribution<int> nvar_{1, 8};
+  std::normal_distribution<double> g_{0.0, 1.0};
+};
 
 }  // namespace bivo::solvers::conic::testing
