@@ -25,20 +25,6 @@ namespace fs = std::filesystem;
 
 inline std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
-// A fresh folder under the system temp directory, named after the test and the process,
-// removed with everything in it when the test ends.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
-
 struct Shell {
   int status = -1;
   std::string out, err;

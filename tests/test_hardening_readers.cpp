@@ -30,7 +30,15 @@ using bivo::testing::error_of;
 
 namespace {
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "/hardening_" + name; }
+// One folder per test process: ctest runs tests side by side, and the output tests look
+// for temporaries left beside their targets.
+const std::string& scratch() {
+  static const bivo::testing::TempDir dir("bivo_hardening");
+  static const std::string path = dir.path.string() + "/";
+  return path;
+}
+
+std::string temp(const std::string& name) { return scratch() + name; }
 
 std::string write_text(const std::string& name, const std::string& text) {
   const std::string path = temp(name);
@@ -287,9 +295,8 @@ TEST(HardeningOutputs, SymlinkFifoAndFolderAreNeverReplaced) {
   EXPECT_TRUE(contains(error_of([&] { odometry::io::write_png8(link, img); }), "symbolic link"));
   EXPECT_TRUE(fs::is_symlink(link));
   // Nothing beside the targets either (no temporaries left).
-  for (const auto& e : fs::directory_iterator(::testing::TempDir())) {
-    const std::string name = e.path().filename().string();
-    EXPECT_FALSE(name.rfind("hardening_", 0) == 0 && contains(name, ".tmp")) << e.path();
+  for (const auto& e : fs::directory_iterator(scratch())) {
+    EXPECT_FALSE(contains(e.path().filename().string(), ".tmp")) << e.path();
   }
 }
 
