@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <string>
 
 #include "odometry/kernels/kernels.h"
 #include "odometry/residual_definition.h"
@@ -58,28 +58,6 @@ solvers::QuadraticModel zero_model() {
 
 }  // namespace
 
-JacobianKind parse_jacobian_kind(const std::string& name) {
-  if (name == "forward") return JacobianKind::kForward;
-  if (name == "inverse") return JacobianKind::kInverse;
-  if (name == "esm") return JacobianKind::kEsm;
-  if (name == "auto") return JacobianKind::kMethodDefault;
-  throw Error("unknown Jacobian kind '" + name + "' (valid: forward, inverse, esm, auto)");
-}
-
-const char* to_string(JacobianKind kind) {
-  switch (kind) {
-    case JacobianKind::kForward:
-      return "forward";
-    case JacobianKind::kInverse:
-      return "inverse";
-    case JacobianKind::kEsm:
-      return "esm";
-    case JacobianKind::kMethodDefault:
-      return "auto";
-  }
-  return "?";
-}
-
 RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdLevel& current,
                                          RgbdProblemOptions options)
     : reference_(&reference), current_(&current), options_(options), kernels_(&default_kernels()) {
@@ -87,26 +65,25 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   const auto& rd = reference.depth;
   const auto& ci = current.intensity;
   const auto& cd = current.depth;
+  const auto size = [](const auto& im) { return std::to_string(im.width) + "x" + std::to_string(im.height); };
+  const std::string level = "RGB-D problem: level " + std::to_string(reference.level);
   if (ri.width != rd.width || ri.height != rd.height || ci.width != cd.width || ci.height != cd.height ||
       ri.width != ci.width || ri.height != ci.height) {
-    std::ostringstream s;
-    s << "RGB-D problem: level " << reference.level << " sizes differ (reference " << ri.width << "x" << ri.height
-      << " / depth " << rd.width << "x" << rd.height << ", current " << ci.width << "x" << ci.height << " / depth "
-      << cd.width << "x" << cd.height << ")";
-    throw Error(s.str());
+    throw Error(level + " sizes differ (reference " + size(ri) + " / depth " + size(rd) + ", current " + size(ci) +
+                " / depth " + size(cd) + ")");
   }
-  if (ri.width < 2 || ri.height < 2) {
-    throw Error("RGB-D problem: level " + std::to_string(reference.level) + " is too small (" +
-                std::to_string(ri.width) + "x" + std::to_string(ri.height) + ")");
-  }
+  if (ri.width < 2 || ri.height < 2) throw Error(level + " is too small (" + size(ri) + ")");
   if (!(options_.min_depth > 0.0) || !(options_.max_depth > options_.min_depth)) {
     throw Error("RGB-D problem: depth range [" + std::to_string(options_.min_depth) + ", " +
                 std::to_string(options_.max_depth) + "] is empty or not positive");
   }
   if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
-  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 2)
-    throw Error("RGB-D problem: depth_noise_exponent must be 0, 1 or 2, got " +
-                std::to_string(options_.depth_noise_exponent));
+  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 2) {
+    throw Error(
+        "RGB-D problem: depth noise exponent must be 0, 1 or 2 (-1 'auto': resolve it first, "
+        "method_depth_noise_exponent()), got " +
+        std::to_string(options_.depth_noise_exponent));
+  }
   if (options_.jacobian == JacobianKind::kMethodDefault) {
     throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
   }

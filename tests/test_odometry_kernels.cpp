@@ -18,75 +18,17 @@
 #include "solvers/geometry/se3.h"
 #include "solvers/outer_loop.h"
 #include "solvers/scalarization.h"
+#include "tests/support/plane_scene.h"
 
 using namespace bivo;
 using namespace bivo::odometry;
 namespace se3 = bivo::solvers::se3;
 
-namespace {
-
-const io::Intrinsics kK{260.0, 258.0, 159.5, 119.5};
-
-// The plane n.P = 1.6 m (world = camera 1), a sum of sines on it, seen by a camera at T_wc.
-io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int width = 320, int height = 240) {
-  const Eigen::Vector3d n = Eigen::Vector3d(0.15, -0.1, 1.0).normalized();
-  const double d = 1.6;
-  io::RgbdImage im;
-  im.width = width;
-  im.height = height;
-  im.intensity.resize(static_cast<std::size_t>(width) * height);
-  im.depth.resize(im.intensity.size());
-  const Eigen::Matrix3d R = T_wc.linear();
-  const Eigen::Vector3d c = T_wc.translation();
-  for (int v = 0; v < height; ++v) {
-    for (int u = 0; u < width; ++u) {
-      const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
-      const Eigen::Vector3d ray_w = R * ray;
-      const double s = (d - n.dot(c)) / n.dot(ray_w);  // P_w = c + s ray_w, camera depth = s
-      const Eigen::Vector3d P = c + s * ray_w;
-      const double t = 128.0 + 45.0 * std::sin(9.0 * P.x() + 2.0 * P.y()) + 35.0 * std::cos(7.0 * P.y() - 3.0 * P.x()) +
-                       20.0 * std::sin(23.0 * P.x()) * std::sin(19.0 * P.y());
-      const std::size_t k = static_cast<std::size_t>(v) * width + u;
-      im.intensity[k] = static_cast<float>(t);
-      const bool hole = (u * 7 + v * 13) % 41 == 0 || (u > 250 && u < 270 && v > 30 && v < 60);
-      im.depth[k] = hole ? 0.0f : static_cast<float>(s);
-    }
-  }
-  return im;
-}
-
-Eigen::Isometry3d camera2() {
-  se3::Vector6d xi;
-  xi << 0.012, -0.008, 0.015, 0.01, -0.012, 0.006;
-  return se3::exp(xi);
-}
-
-struct Scene {
-  PreparedFrame reference, current;
-  Eigen::Isometry3d T_21;  // camera 1 -> camera 2 coordinates
-  Scene() {
-    const Eigen::Isometry3d T_wc2 = camera2();
-    reference = prepare_frame(render_plane(Eigen::Isometry3d::Identity()), kK, 3);
-    current = prepare_frame(render_plane(T_wc2), kK, 3);
-    T_21 = T_wc2.inverse();
-  }
-};
-
-const Scene& scene() {
-  static const Scene s;
-  return s;
-}
-
-// Near the truth, so most terms are valid with residuals of a few gray levels.
-Eigen::VectorXd near_truth() {
-  se3::Vector6d off;
-  off << 0.003, 0.002, -0.002, -0.002, 0.003, 0.001;
-  return se3::to_ambient(se3::exp(off) * scene().T_21);
-}
-
-double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
-
-}  // namespace
+using bivo::testing::kK;
+using bivo::testing::near_truth;
+using bivo::testing::render_plane;
+using bivo::testing::rel;
+using bivo::testing::scene;
 
 TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
   for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
@@ -109,43 +51,6 @@ TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
       EXPECT_GT(p.last_stats().valid_intensity, 0.8 * p.num_terms());
     }
   }
-}
-
-// The depth noise exponent p divides each term's r_D and its Jacobian row by z^p, z the
-// reference pixel's depth: checked against the depths read from the reference image (terms
-// are its pixels with depth in [min_depth, max_depth], row by row).
-TEST(RgbdKernels, DepthNoiseExponentDividesEachDepthTermByItsDepthToThePower) {
-  const RgbdLevel& a = scene().reference.pyramid.levels[1];
-  const RgbdLevel& b = scene().current.pyramid.levels[1];
-  std::vector<double> z;
-  for (const float d : a.depth.data) {
-    if (d >= 0.1f && d <= 10.0f) z.push_back(d);
-  }
-  const Eigen::VectorXd x = near_truth();
-  RgbdProblemOptions plain;
-  plain.weights.kind = WeightKind::kNone;
-  RgbdOdometryProblem p0(a, b, plain);
-  ASSERT_EQ(static_cast<std::size_t>(p0.num_terms()), z.size());
-  const solvers::ResidualData d0 = p0.residuals(2, x, true);
-  for (const int exponent : {1, 2}) {
-    RgbdProblemOptions o = plain;
-    o.depth_noise_exponent = exponent;
-    RgbdOdometryProblem p(a, b, o);
-    const solvers::ResidualData d = p.residuals(2, x, true);
-    Eigen::VectorXd scale(d0.r.size());
-    for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = std::pow(z[static_cast<std::size_t>(k)], -exponent);
-    EXPECT_LT((d.r - scale.cwiseProduct(d0.r)).norm(), 1e-12 * d0.r.norm()) << exponent;
-    EXPECT_LT((d.J - scale.asDiagonal() * d0.J).norm(), 1e-12 * d0.J.norm()) << exponent;
-    // The float kernels' F_D (unit weights) is the sum of the scaled squares.
-    const double want = d.r.squaredNorm();
-    EXPECT_NEAR(p.evaluate(x)[1], want, 1e-4 * want) << exponent;
-    // The plane lies 1.4-2 m away: the scale leaves r_D's sum between (1/2)^2p and (1/1.4)^2p of it.
-    EXPECT_LT(want, std::pow(1 / 1.4, 2 * exponent) * d0.r.squaredNorm());
-    EXPECT_GT(want, std::pow(0.5, 2 * exponent) * d0.r.squaredNorm());
-  }
-  RgbdProblemOptions bad = plain;
-  bad.depth_noise_exponent = 3;
-  EXPECT_THROW(RgbdOdometryProblem(a, b, bad), Error);
 }
 
 // The eight- and sixteen-lane kernels against the one-lane kernels (the scene's term count is
