@@ -115,6 +115,9 @@ std::vector<TrackerOption> build_table() {
              "depth trust statistic (photometric distance of the bi-objective estimate, in sigma_I^2) above "
              "which a level falls back to F_I alone",
              BIVO_FIELD(policy.trust), "robust"),
+      number("policy.joint_kappa", "--joint-kappa", 0.0, kInf,
+             "joint, robust: lambda = joint_kappa S_II / S_DD (1: the bivariate t's own balance)",
+             BIVO_FIELD(policy.joint_kappa)),
       integer("policy.photometric_start_levels", "--photometric-start-levels", 0, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off)",
               BIVO_FIELD(policy.photometric_start_levels)),
@@ -169,9 +172,10 @@ std::vector<TrackerOption> build_table() {
              BIVO_FIELD(problem.max_depth)),
       number("problem.occlusion_margin", "--occlusion-margin", 0.0, kInf,
              "a warped point this far behind the current depth is occluded [m]", BIVO_FIELD(problem.occlusion_margin)),
-      integer("problem.depth_noise_exponent", "--depth-noise-exponent", 0, 2,
+      integer("problem.depth_noise_exponent", "--depth-noise-exponent", -1, 2,
               "r_D divided by (z / 1 m)^p, z the reference depth: 2 for depth noise growing with z^2 "
-              "(structured light, stereo), 0 for noise independent of depth",
+              "(structured light, stereo), 0 for noise independent of depth, -1 the method's own (2 for joint "
+              "and robust, else 0)",
               BIVO_FIELD(problem.depth_noise_exponent)),
       number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "

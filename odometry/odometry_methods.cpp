@@ -138,7 +138,7 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
 }
 
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p) {
-  if (method == Method::kJoint || method == Method::kRobust) return stats.joint_scale.implied_lambda();
+  if (method == Method::kJoint || method == Method::kRobust) return p.joint_kappa * stats.joint_scale.implied_lambda();
   if (method == Method::kScaled) {
     const double si = stats.sigma_intensity, sd = stats.sigma_depth;
     return sd > 0.0 && std::isfinite(si) ? p.kappa * (si * si) / (sd * sd) : 0.0;
@@ -149,6 +149,11 @@ double residual_lambda(Method method, const RgbdLinearizationStats& stats, const
 JacobianKind method_jacobian(Method method, JacobianKind requested) {
   if (requested != JacobianKind::kMethodDefault) return requested;
   return uses_joint_weights(method) ? JacobianKind::kInverse : JacobianKind::kForward;
+}
+
+int method_depth_noise_exponent(Method method, int requested) {
+  if (requested >= 0) return requested;
+  return uses_joint_weights(method) ? 2 : 0;
 }
 
 }  // namespace bivo::odometry

@@ -11,7 +11,7 @@
 //                                            (eq. `bounded objective form`)
 // and, beyond the paper (docs/odometry.md, "Data-driven policies"):
 //   joint     F_I + lambda F_D with ONE bivariate-t weight per pixel (joint_weights.h, Kerl et
-//             al. IROS 2013); lambda = S_II / S_DD, re-estimated at every linearization
+//             al. IROS 2013); lambda = joint_kappa S_II / S_DD, re-estimated at every linearization
 //   scaled    F_I + lambda F_D               lambda = kappa sigma_I^2 / sigma_D^2 from the robust
 //                                            scales of the current linearization
 //   noise-bounded  per level: x_I = argmin F_I; then min F_I s.t. F_D <= eps_D with
@@ -81,6 +81,10 @@ struct PolicyParameters {
   // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
   // fall into the depth objective's basin at 80x60; the textureless renderings unchanged).
   int photometric_start_levels = 1;
+  // methods joint, robust: lambda = joint_kappa S_II / S_DD (1: the bivariate t's own balance
+  // of the two residuals). Below 1 the depth objective counts less where the image has texture
+  // and still decides where it has none (S_II / S_DD is then large).
+  double joint_kappa = 1.0;
 };
 
 // Whether the method's per-frame rule reads the frame's medians (FrameStatistics::has_medians
@@ -114,6 +118,12 @@ enum class JacobianKind;  // rgbd_problem.h
 // tracker it reproduces, dvo_core, precomputes them per level); every other method: forward.
 // Chosen on all the data at hand (docs/odometry.md, "How the defaults were chosen").
 JacobianKind method_jacobian(Method method, JacobianKind requested);
+// The depth noise exponent (RgbdProblemOptions::depth_noise_exponent) a method uses when asked
+// for -1 ("auto", the tracker's default); any other request is returned unchanged. joint and
+// robust: 2 (their robust scales assume one noise level for all pixels, which over-trusts far
+// ones; chosen by leave-one-sequence-out, docs/results/robust.md); the others: 0 (the
+// paper's r_D, and the settings their defaults were chosen with).
+int method_depth_noise_exponent(Method method, int requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p);

@@ -228,6 +228,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   problem_options.depth_first = method == Method::kDepth;
   problem_options.joint_weights = uses_joint_weights(method);
   problem_options.jacobian = method_jacobian(method, problem_options.jacobian);
+  problem_options.depth_noise_exponent = method_depth_noise_exponent(method, problem_options.depth_noise_exponent);
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
   problem_options.model_f2 = !one_objective;
@@ -418,6 +419,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   po.depth_first = parse_method(options.method) == Method::kDepth;
   po.joint_weights = uses_joint_weights(parse_method(options.method));
   po.jacobian = method_jacobian(parse_method(options.method), po.jacobian);
+  po.depth_noise_exponent = method_depth_noise_exponent(parse_method(options.method), po.depth_noise_exponent);
   po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }

@@ -45,10 +45,11 @@ InitialGuess parse_initial_guess(const std::string& name);  // "identity" | "con
 const char* to_string(InitialGuess guess);
 
 // The problem options a tracker starts from: RgbdProblemOptions' defaults with the Jacobian
-// kind left to the method ("auto").
+// kind and the depth noise exponent left to the method ("auto").
 inline RgbdProblemOptions method_default_problem() {
   RgbdProblemOptions o;
   o.jacobian = JacobianKind::kMethodDefault;
+  o.depth_noise_exponent = -1;
   return o;
 }
 
