@@ -1,5 +1,7 @@
 // Leave-one-sequence-out as a study (experiments/study/study.h, kind "loso"): its file reads
-// back bit for bit and its hash covers what the runs compute.
+// back bit for bit and its hash covers what the runs compute; `bivo plan loso` refuses a bad
+// parameter before anything runs; and two shards merged give the files of `bivo loso` in one
+// process, on two tiny rendered sequences (8 runs of 5 frames at the coarsest levels).
 #include <algorithm>
 #include <cmath>
 
@@ -30,6 +32,24 @@ Study loso_study_by_hand() {
   o.max_frames = 40;
   s.loso = o;
   return s;
+}
+
+// The CSV without its column `name` (a timing: it differs from run to run).
+std::string without_column(const std::string& csv, const std::string& name) {
+  std::istringstream in(csv);
+  std::string line, out;
+  int drop = -1;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream ls(line);
+    for (std::string f; std::getline(ls, f, ',');) fields.push_back(f);
+    if (drop < 0) drop = int(std::find(fields.begin(), fields.end(), name) - fields.begin());
+    for (int k = 0; k < int(fields.size()); ++k) {
+      if (k != drop) out += fields[k] + ",";
+    }
+    out += "\n";
+  }
+  return out;
 }
 
 }  // namespace
@@ -119,4 +139,73 @@ TEST(LosoStudy, ARunReadsBackBitForBit) {
   EXPECT_EQ(back.median_cpu_ms, 12.5);
   EXPECT_EQ(back.pair_trans, r.pair_trans);
   EXPECT_EQ(back.pair_rot, r.pair_rot);
+}
+
+TEST(LosoStudy, ABadParameterIsRefusedWhenPlanned) {
+  const TempDir temp("bivo_loso_plan");
+  const fs::path& root = temp.path;
+  // Planning reads no data: the sequences need not exist.
+  const std::string flags = " --sequences /data/a /data/b --method robust --output " + q(root / "out") + " --study ";
+  Shell r = shell(bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter no_such --grid 1 2", root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("'no_such' is not a numeric tracker option"), std::string::npos) << r.err;
+  // A value outside the option's range: depth_noise_exponent is an integer in [0, 2].
+  r = shell(
+      bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter problem.depth_noise_exponent --grid 0 3",
+      root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("depth_noise_exponent"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root / "bad.json"));
+  r = shell(bivo_cli() + " plan loso" + flags + q(root / "good.json") + " --parameter trust --grid 100 1000", root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("loso study, 6 unit(s)"), std::string::npos) << r.err;
+}
+
+TEST(LosoStudy, TwoShardsMergeToTheFilesOfOneProcess) {
+  const TempDir temp("bivo_loso_study");
+  const fs::path& root = temp.path;
+  const std::vector<std::string> sequences = render_test_sequences(root / "sequences");
+  std::string flags = "--sequences";
+  for (const auto& s : sequences) flags += " " + q(s);
+  flags +=
+      " --method robust --parameter trust --grid 100 1e12 --methods weighted --max-frames 5 --levels 4"
+      " --finest-level 3 --output ";
+
+  const Shell one = shell(bivo_cli() + " loso " + flags + q(root / "one"), root);
+  ASSERT_EQ(one.status, 0) << one.err;
+  const fs::path study = root / "study.json", results = root / "results";
+  Shell r = shell(bivo_cli() + " plan loso " + flags + q(root / "merged") + " --study " + q(study), root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("8 unit(s)"), std::string::npos) << r.err;
+  for (const char* shard : {"0/2", "1/2"}) {
+    r = shell(bivo_cli() + " work " + q(study) + " --shard " + shard + " --results " + q(results), root);
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  EXPECT_EQ(result_files(results), 8);
+  const Shell m = shell(bivo_cli() + " merge " + q(study) + " " + q(results), root);
+  ASSERT_EQ(m.status, 0) << m.err;
+  EXPECT_EQ(m.out, one.out);  // the held-out table, as `bivo loso` prints it
+
+  // Not two failures comparing equal: every run succeeded and both rows have numbers.
+  const std::string md = slurp(root / "one" / "loso.md");
+  EXPECT_EQ(md.find("failed"), std::string::npos) << md;
+  for (const auto& s : sequences) EXPECT_NE(md.find("| " + fs::path(s).filename().string() + " |"), std::string::npos);
+  const std::string runs = slurp(root / "one" / "runs.csv");
+  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 9) << runs;  // a header and 8 runs
+  for (const char* exact : {"loso.md", "loso.csv", "pairs.csv", "config.json"}) {
+    EXPECT_EQ(slurp(root / "one" / exact), slurp(root / "merged" / exact)) << exact;
+  }
+  EXPECT_EQ(without_column(slurp(root / "one" / "runs.csv"), "median_cpu_ms"),
+            without_column(slurp(root / "merged" / "runs.csv"), "median_cpu_ms"));
+
+  // Results of another study (here: another grid) are refused, naming the file.
+  const fs::path other = root / "other.json";
+  std::string other_flags = flags;
+  other_flags.replace(other_flags.find("--grid 100"), 10, "--grid 300");
+  r = shell(bivo_cli() + " plan loso " + other_flags + q(root / "other") + " --study " + q(other), root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = shell(bivo_cli() + " merge " + q(other) + " " + q(results), root);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("another study"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root / "other"));
 }
