@@ -4,6 +4,7 @@
 // process, on two tiny rendered sequences (8 runs of 5 frames at the coarsest levels).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "experiments/study/study.h"
 #include "experiments/study/study_results.h"
@@ -109,6 +110,9 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   bad = j;
   bad["loso"]["methods"][1] = "sideways";
   EXPECT_NE(error_of([&] { study_from_json(bad, "s.json"); }).find("sideways"), std::string::npos);
+  Study infinite = s;  // JSON has no infinity: refused when planned, not when read back
+  infinite.loso->grid[2] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(error_of([&] { check_study(infinite); }).find("not finite"), std::string::npos);
   bad = j;
   bad["loso"]["methods"][1] = "single";  // the reference twice: two units of one name
   EXPECT_NE(error_of([&] { study_units(study_from_json(bad, "s.json")); }).find("two units named"), std::string::npos);

@@ -86,10 +86,14 @@ std::string number_text(double v) {
 // What would make a LOSO run fail for its options rather than its data, refused before any
 // run: too few sequences, an empty grid, a bad parameter or value (loso_units), a bad method.
 void check_loso(const LosoOptions& o) {
+  for (double v : o.grid) {
+    if (!std::isfinite(v)) {
+      throw Error("loso: grid value " + number_text(v) + " of '" + o.parameter +
+                  "' is not finite (a study file is JSON, which has none: give a large number)");
+    }
+  }
   loso_units(o);
   for (double v : o.grid) {
-    if (!std::isfinite(v))
-      throw Error("loso: grid value " + number_text(v) + " of '" + o.parameter + "' is not finite");
     odometry::TrackerOptions t = o.tracker;
     t.method = o.method;
     t.backend = "";
