@@ -1,19 +1,18 @@
 // `bivo loso --sequences DIR... --grid V... --output DIR`: leave-one-sequence-out
 // (experiments/loso.h): the method's parameter is chosen on all sequences but the held-out
-// one, whose RPE alone is reported.
-#include <iostream>
+// one, whose RPE alone is reported. One work unit per sequence x {reference, grid value,
+// fixed method} (experiments/study/study.h), so `bivo plan loso` shards it.
 #include <memory>
 
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/loso.h"
 #include "experiments/output_set.h"
+#include "experiments/study/study_plan.h"
 
 namespace bivo::experiments::cli {
 
-void add_loso_command(CLI::App& app) {
-  CLI::App* cmd = app.add_subcommand(
-      "loso", "Leave-one-sequence-out: a method's parameter chosen without the sequence it is reported on");
+StudyFactory add_loso_flags(CLI::App* cmd) {
   struct Args {
     std::shared_ptr<TrackerFlags> tracker;
     LosoOptions o;
@@ -33,12 +32,18 @@ void add_loso_command(CLI::App& app) {
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for loso.md / loso.csv / runs.csv / pairs.csv")->required();
-  cmd->callback([a] {
+  return [a] {
     check_output_folder({"--output", a->output});
     LosoOptions o = a->o;
     o.tracker = a->tracker->options();
-    std::cout << write_loso(run_loso(o), a->output);
-  });
+    return loso_study(o, a->output);
+  };
+}
+
+void add_loso_command(CLI::App& app) {
+  add_study_command(app, "loso",
+                    "Leave-one-sequence-out: a method's parameter chosen without the sequence it is reported on",
+                    add_loso_flags);
 }
 
 }  // namespace bivo::experiments::cli

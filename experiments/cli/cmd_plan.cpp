@@ -105,13 +105,15 @@ void plan(const Study& study, PlanArgs p) {
 }  // namespace
 
 void add_plan_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("plan", "Write a study (units of table/sweep/pareto/report) for bivo work and merge");
+  auto* cmd =
+      app.add_subcommand("plan", "Write a study (units of table/sweep/pareto/report/loso) for bivo work and merge");
   cmd->require_subcommand(1);
   using AddFlags = StudyFactory (*)(CLI::App*);
   const std::vector<std::pair<const char*, AddFlags>> kinds = {{"table", add_table_flags},
                                                                {"sweep", add_sweep_flags},
                                                                {"pareto", add_pareto_flags},
-                                                               {"report", add_report_flags}};
+                                                               {"report", add_report_flags},
+                                                               {"loso", add_loso_flags}};
   for (const auto& [name, add_flags] : kinds) {
     auto* sub = cmd->add_subcommand(name, std::string("the study `bivo ") + name + "` runs, with the same flags");
     const StudyFactory make = add_flags(sub);

@@ -28,7 +28,7 @@ void add_work_command(CLI::App& app);
 void add_merge_command(CLI::App& app);
 void add_loso_command(CLI::App& app);
 
-// The flags of a study command (table, sweep, pareto, report), shared by the command itself
+// The flags of a study command (table, sweep, pareto, report, loso), shared by the command itself
 // and by `bivo plan KIND`: add_<kind>_flags adds them to `cmd` and returns the function that
 // builds the study from the parsed values (study_plan.h). The command = that study run in
 // one process (run_study); `bivo plan` writes it for `bivo work` / `bivo merge` instead.
@@ -37,6 +37,7 @@ StudyFactory add_table_flags(CLI::App* cmd);
 StudyFactory add_sweep_flags(CLI::App* cmd);
 StudyFactory add_pareto_flags(CLI::App* cmd);
 StudyFactory add_report_flags(CLI::App* cmd);
+StudyFactory add_loso_flags(CLI::App* cmd);
 
 // Adds `bivo NAME` with the flags of add_flags: the study run in this process, then what
 // the command prints (cmd_merge.cpp).

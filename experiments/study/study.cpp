@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <numeric>
@@ -56,6 +57,13 @@ json parts_json(const Study& s) {
                    {"lambda_max", o.lambda_max}, {"methods", o.methods}, {"pairs", pairs}};
     if (!o.backend.empty()) j["pareto"]["backend"] = o.backend;  // absent: the default, as planned before
   }
+  if (s.loso) {
+    const LosoOptions& o = *s.loso;
+    j["loso"] = {{"sequences", o.sequences},     {"method", o.method},
+                 {"parameter", o.parameter},     {"grid", o.grid},
+                 {"reference", o.reference},     {"methods", o.methods},
+                 {"first_frame", o.first_frame}, {"max_frames", o.max_frames}};
+  }
   return j;
 }
 
@@ -75,6 +83,33 @@ std::string number_text(double v) {
   return buf;
 }
 
+// What would make a LOSO run fail for its options rather than its data, refused before any
+// run: too few sequences, an empty grid, a bad parameter or value (loso_units), a bad method.
+void check_loso(const LosoOptions& o) {
+  for (double v : o.grid) {
+    if (!std::isfinite(v)) {
+      throw Error("loso: grid value " + number_text(v) + " of '" + o.parameter +
+                  "' is not finite (a study file is JSON, which has none: give a large number)");
+    }
+  }
+  loso_units(o);
+  for (double v : o.grid) {
+    odometry::TrackerOptions t = o.tracker;
+    t.method = o.method;
+    t.backend = "";
+    set_loso_parameter(t, o.parameter, v);
+    odometry::validate(t);
+  }
+  std::vector<std::string> fixed = o.methods;
+  fixed.push_back(o.reference);
+  for (const std::string& m : fixed) {
+    odometry::TrackerOptions t = o.tracker;
+    t.method = m;
+    t.backend = "";
+    odometry::validate(t);
+  }
+}
+
 }  // namespace
 
 std::string method_spec_text(const MethodSpec& spec) {
@@ -83,9 +118,9 @@ std::string method_spec_text(const MethodSpec& spec) {
 
 void check_study(const Study& s) {
   const bool table = s.kind == "table", sweep = s.kind == "sweep", pareto = s.kind == "pareto",
-             report = s.kind == "report";
-  if (!table && !sweep && !pareto && !report) {
-    throw Error("study: unknown kind '" + s.kind + "' (valid: table, sweep, pareto, report)");
+             report = s.kind == "report", loso = s.kind == "loso";
+  if (!table && !sweep && !pareto && !report && !loso) {
+    throw Error("study: unknown kind '" + s.kind + "' (valid: table, sweep, pareto, report, loso)");
   }
   auto expect = [&](bool present, bool wanted, bool allowed, const char* part) {
     if (wanted && !present) throw Error("study of kind '" + s.kind + "' needs a '" + part + "' part");
@@ -95,6 +130,7 @@ void check_study(const Study& s) {
   expect(bool(s.sweep), sweep, report, "sweep");
   expect(bool(s.pareto), pareto, report, "pareto");
   expect(bool(s.report), report, false, "report");
+  expect(bool(s.loso), loso, false, "loso");
   odometry::validate(s.tracker);
   if (s.table) check_matrix_options(table_options(s));
   if (s.sweep && (sweep || !s.sweep->sequences.empty())) sweep_units(sweep_options(s));
@@ -112,6 +148,7 @@ void check_study(const Study& s) {
       }
     }
   }
+  if (s.loso) check_loso(loso_options(s));
 }
 
 json study_to_json(const Study& s) {
@@ -184,6 +221,20 @@ Study study_from_json(const json& j, const std::string& where) {
     pr.reject_unknown();
     s.pareto = p;
   }
+  if (const json* t = r.find("loso")) {
+    Reader lr(*t, r.path("loso"));
+    LosoOptions o;
+    o.sequences = lr.strings("sequences");
+    o.method = lr.string("method");
+    o.parameter = lr.string("parameter");
+    o.grid = lr.numbers("grid");
+    o.reference = lr.string("reference");
+    o.methods = lr.strings("methods");
+    o.first_frame = lr.integer("first_frame", 0);
+    o.max_frames = lr.integer("max_frames", -1);
+    lr.reject_unknown();
+    s.loso = o;
+  }
   if (const json* t = r.find("report")) {
     Reader rr(*t, r.path("report"));
     s.report = ReportText{rr.string("title"), rr.string("preamble")};
@@ -253,6 +304,13 @@ ParetoStudyOptions pareto_options(const Study& s, int pair_index) {
   return o;
 }
 
+LosoOptions loso_options(const Study& s) {
+  LosoOptions o = s.loso.value();
+  o.tracker = s.tracker;
+  o.progress = -1;
+  return o;
+}
+
 std::vector<StudyUnit> study_units(const Study& s) {
   std::vector<StudyUnit> units;
   auto add = [&](const char* part, int item, const std::string& id) {
@@ -287,6 +345,20 @@ std::vector<StudyUnit> study_units(const Study& s) {
       const auto& p = s.pareto->pairs[k];
       add("pareto", int(k),
           std::to_string(k) + "-" + token(sequence_label(p.sequence_dir)) + "/pair-" + std::to_string(p.pair));
+    }
+  }
+  if (s.loso) {
+    const LosoOptions o = loso_options(s);
+    const std::vector<LosoRun> runs = loso_units(o);
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const LosoRun& r = runs[k];
+      std::string what = token(r.method);
+      if (r.has_value) {
+        const auto n = std::find(o.grid.begin(), o.grid.end(), r.value) - o.grid.begin();
+        what += "/" + token(o.parameter + "-" + std::to_string(n) + "=" + number_text(r.value));
+      }
+      add("loso", int(k),
+          std::to_string(r.sequence) + "-" + token(sequence_label(o.sequences[r.sequence])) + "/" + what);
     }
   }
   // Ids must be unique (a grid value listed twice would make two units of one name).

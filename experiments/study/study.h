@@ -1,11 +1,12 @@
 #pragma once
-// One description of an experiment — a study — that `bivo table`, `sweep`, `pareto` and
-// `report` run in one process and that `bivo plan` / `work` / `merge` split into shards
+// One description of an experiment — a study — that `bivo table`, `sweep`, `pareto`,
+// `report` and `loso` run in one process and that `bivo plan` / `work` / `merge` split into shards
 // (docs/scaling.md). A study is a list of independent work units:
 //   table:  one per method x sequence (method_matrix.h, run_matrix_cell)
 //   sweep:  one per sequence x {single reference, each lambda, each epsilon} (sweep_units)
 //   pareto: one per frame pair (run_pareto_study)
 //   report: the units of its table, its sweep and its Pareto pairs
+//   loso:   one per sequence x {reference, each grid value, each fixed method} (loso_units)
 // The engines run a unit and assemble their tables from unit results; this file only
 // describes, names and deals out the units.
 //
@@ -19,7 +20,9 @@
 //              "first_frame": 0, "max_frames": 60},
 //    "pareto": {"level": 1, "points": 15, "lambda_min": 1, "lambda_max": 1e7,
 //               "methods": [...], "pairs": [{"sequence": "/abs/seq", "pair": 44}]},
-//    "report": {"title": "...", "preamble": "..."}}
+//    "report": {"title": "...", "preamble": "..."},
+//    "loso": {"sequences": [...], "method": "robust", "parameter": "trust", "grid": [...],
+//             "reference": "single", "methods": [...], "first_frame": 0, "max_frames": -1}}
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -27,6 +30,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "experiments/loso.h"
 #include "experiments/method_matrix.h"
 #include "experiments/parameter_sweep.h"
 #include "experiments/pareto_study.h"
@@ -51,7 +55,7 @@ struct ReportText {
 };
 
 struct Study {
-  std::string kind;    // "table", "sweep", "pareto" or "report"
+  std::string kind;    // "table", "sweep", "pareto", "report" or "loso"
   std::string output;  // the folder `bivo merge` writes (absolute)
   // Seeds the order in which units are dealt to shards; results never depend on it.
   std::uint64_t seed = 1;
@@ -63,10 +67,12 @@ struct Study {
   std::optional<SweepOptions> sweep;   // sweep; report when it has a grid (sequences may be empty)
   std::optional<ParetoPlan> pareto;    // pareto; report unless --no-pareto
   std::optional<ReportText> report;    // report
+  std::optional<LosoOptions> loso;     // loso (its tracker and progress are not stored)
 };
 
 // Throws bivo::Error when the kind does not match its parts or a part is unusable (no
-// sequences, a bad method or backend, an empty grid).
+// sequences, a bad method or backend, an empty grid, a parameter that is no numeric tracker
+// option or a grid value outside its range).
 void check_study(const Study& study);
 
 // "bounded:ipm-full" / "single": the inverse of parse_method_spec.
@@ -86,18 +92,21 @@ std::string study_hash(const Study& study);
 
 struct StudyUnit {
   int index = 0;     // position in the study's canonical order
-  std::string part;  // "table", "sweep" or "pareto"
-  int item = 0;      // table: method * sequences + sequence; sweep: index into sweep_units; pareto: into pairs
-  std::string id;    // stable and unique, e.g. "table/1-weighted/0-freiburg1_rpy", "sweep/0-fr1/lambda-2=1000"
+  std::string part;  // "table", "sweep", "pareto" or "loso"
+  // table: method * sequences + sequence; sweep: index into sweep_units; pareto: into pairs;
+  // loso: into loso_units
+  int item = 0;
+  std::string id;  // stable and unique, e.g. "table/1-weighted/0-freiburg1_rpy", "sweep/0-fr1/lambda-2=1000"
 };
 
-// Table units (row-major), then sweep units, then Pareto pairs.
+// Table units (row-major), then sweep units, then Pareto pairs, then LOSO runs.
 std::vector<StudyUnit> study_units(const Study& study);
 
 // The tracker options of the parts (with the study's tracker in them).
 MatrixOptions table_options(const Study& study);
 SweepOptions sweep_options(const Study& study);
 ParetoStudyOptions pareto_options(const Study& study, int pair_index);
+LosoOptions loso_options(const Study& study);
 
 // "I/N" with 0 <= I < N; throws bivo::Error naming the text otherwise.
 struct ShardSpec {

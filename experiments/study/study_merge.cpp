@@ -99,6 +99,27 @@ std::vector<MergedPareto> merged_pareto(const std::vector<StudyUnit>& units,
   return out;
 }
 
+// The LOSO runs in unit order; a missing one (partial merge) is a failed run that says why.
+LosoResult merged_loso(const Study& study, const std::vector<StudyUnit>& units,
+                       const std::map<std::string, json>& results) {
+  const LosoOptions o = loso_options(study);
+  const std::vector<LosoRun> planned = loso_units(o);
+  std::vector<LosoRun> runs;
+  for (const StudyUnit& u : units) {
+    if (u.part != "loso") continue;
+    const auto it = results.find(u.id);
+    if (it != results.end()) {
+      runs.push_back(decode(u, it->second, loso_run_from_json));
+      continue;
+    }
+    LosoRun r = planned.at(u.item);
+    r.sequence_name = fs::path(o.sequences.at(r.sequence)).filename().string();
+    r.error = "not run (unit " + u.id + " missing from the results)";
+    runs.push_back(r);
+  }
+  return assemble_loso(o, std::move(runs));
+}
+
 }  // namespace
 
 CollectedResults collect_results(const Study& study, const std::string& dir) {
@@ -191,6 +212,8 @@ MergeOutput merge_results(const Study& study, const std::map<std::string, json>&
       if (p.outcome.study) studies.push_back(*p.outcome.study);
     }
     out.markdown = write_pareto_studies(studies, study.pareto->options.methods, dir, study.plots);
+  } else if (study.kind == "loso") {
+    out.markdown = write_loso(merged_loso(study, units, results), dir);
   } else {
     ReportParts parts;
     parts.matrix = merged_matrix(study, units, results);

@@ -1,9 +1,9 @@
 #pragma once
 // From unit results to the outputs of the single-process command (`bivo merge`, and the
-// last step of `bivo table/sweep/pareto/report` themselves): the same tables, JSON/CSV and
-// plots, written by the same engine functions (write_matrix, write_sweep,
-// write_pareto_studies, write_report), so merging shards gives the bytes of one process
-// (timing columns aside).
+// last step of `bivo table/sweep/pareto/report/loso` themselves): the same tables, JSON/CSV
+// and plots, written by the same engine functions (write_matrix, write_sweep,
+// write_pareto_studies, write_report, write_loso), so merging shards gives the bytes of one
+// process (timing columns aside).
 #include <map>
 #include <optional>
 #include <ostream>

@@ -127,6 +127,15 @@ Study report_study(const ReportOptions& o, const std::string& output) {
   return s;
 }
 
+Study loso_study(const LosoOptions& options, const std::string& output) {
+  Study s = base_study("loso", options.tracker, output);
+  LosoOptions o = options;
+  o.sequences = absolute_paths(options.sequences);
+  s.loso = o;
+  check_study(s);
+  return s;
+}
+
 ReportOptions report_options(const Study& s) {
   if (s.kind != "report") throw Error("study of kind '" + s.kind + "' is not a report");
   ReportOptions o;

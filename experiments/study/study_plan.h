@@ -19,6 +19,7 @@ Study sweep_study(const SweepOptions& options, const std::string& output);
 Study pareto_pairs_study(const ParetoStudyOptions& options, const std::vector<int>& pairs, const std::string& output,
                          bool plots);
 Study report_study(const ReportOptions& options, const std::string& output);
+Study loso_study(const LosoOptions& options, const std::string& output);
 
 // The options write_report() needs, back from a report study.
 ReportOptions report_options(const Study& study);

@@ -333,6 +333,39 @@ SweepRun sweep_run_from_json(const json& j) {
   return r;
 }
 
+json loso_run_to_json(const LosoRun& r) {
+  return {{"sequence_index", r.sequence},
+          {"method", r.method},
+          {"has_value", r.has_value},
+          {"value", num(r.value)},
+          {"ok", r.ok},
+          {"sequence", r.sequence_name},
+          {"error", r.error},
+          {"rpe_trans", num(r.rpe_trans)},
+          {"rpe_rot", num(r.rpe_rot)},
+          {"median_cpu_ms", num(r.median_cpu_ms)},
+          {"pair_trans", nums(r.pair_trans)},
+          {"pair_rot", nums(r.pair_rot)}};
+}
+
+LosoRun loso_run_from_json(const json& j) {
+  LosoRun r;
+  r.sequence = j.at("sequence_index").get<int>();
+  r.method = j.at("method").get<std::string>();
+  r.has_value = j.at("has_value").get<bool>();
+  r.value = dbl(j.at("value"));
+  r.ok = j.at("ok").get<bool>();
+  r.sequence_name = j.at("sequence").get<std::string>();
+  r.error = j.at("error").get<std::string>();
+  r.rpe_trans = dbl(j.at("rpe_trans"));
+  r.rpe_rot = dbl(j.at("rpe_rot"));
+  r.median_cpu_ms = dbl(j.at("median_cpu_ms"));
+  r.pair_trans = dbls(j.at("pair_trans"));
+  r.pair_rot = dbls(j.at("pair_rot"));
+  if (r.pair_trans.size() != r.pair_rot.size()) throw Error("pair_trans and pair_rot differ in length");
+  return r;
+}
+
 json pareto_outcome_to_json(const ParetoOutcome& o) {
   json study = nullptr;
   if (o.study) {

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "experiments/loso.h"
 #include "experiments/method_matrix.h"
 #include "experiments/parameter_sweep.h"
 #include "experiments/pareto_study.h"
@@ -30,6 +31,9 @@ struct ParetoOutcome {
 };
 nlohmann::json pareto_outcome_to_json(const ParetoOutcome& outcome);
 ParetoOutcome pareto_outcome_from_json(const nlohmann::json& j);
+
+nlohmann::json loso_run_to_json(const LosoRun& run);
+LosoRun loso_run_from_json(const nlohmann::json& j);
 
 // The readers throw nlohmann::json::exception on a missing key or a wrong type; callers
 // name the file (study_merge.h).

@@ -80,6 +80,12 @@ json run_unit(const Study& study, const StudyUnit& unit) {
     }
     return pareto_outcome_to_json(out);
   }
+  if (unit.part == "loso") {
+    const LosoOptions o = loso_options(study);
+    LosoRun run = loso_units(o).at(unit.item);
+    run_loso_unit(o, run);
+    return loso_run_to_json(run);
+  }
   throw Error("study: unit '" + unit.id + "' of unknown part '" + unit.part + "'");
 }
 
@@ -90,6 +96,7 @@ std::string unit_failure(const StudyUnit& unit, const json& result) {
     return is_too_short(error) ? "" : error;
   }
   if (unit.part == "pareto") return result.at("error").get<std::string>();
+  if (unit.part == "loso") return result.at("ok").get<bool>() ? "" : result.at("error").get<std::string>();
   return "";
 }
 

@@ -33,7 +33,8 @@ std::string unit_file_name(const StudyUnit& unit);
 nlohmann::json run_unit(const Study& study, const StudyUnit& unit);
 
 // Why a unit produced no result, "" when it did: a table cell whose run failed, a sweep point
-// whose run failed, a Pareto pair whose study threw. Commands exit non-zero on any.
+// whose run failed, a Pareto pair whose study threw, a LOSO run that failed. Commands exit
+// non-zero on any.
 std::string unit_failure(const StudyUnit& unit, const nlohmann::json& result);
 
 struct UnitResultFile {

@@ -1,0 +1,215 @@
+// Leave-one-sequence-out as a study (experiments/study/study.h, kind "loso"): its file reads
+// back bit for bit and its hash covers what the runs compute; `bivo plan loso` refuses a bad
+// parameter before anything runs; and two shards merged give the files of `bivo loso` in one
+// process, on two tiny rendered sequences (8 runs of 5 frames at the coarsest levels).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "experiments/study/study.h"
+#include "experiments/study/study_results.h"
+#include "solvers/error.h"
+#include "study_test_support.h"
+
+namespace fs = std::filesystem;
+using namespace bivo::experiments;
+using namespace bivo::testing;
+
+namespace {
+
+Study loso_study_by_hand() {
+  Study s;
+  s.kind = "loso";
+  s.output = "/tmp/loso";
+  s.tracker.levels = 3;
+  LosoOptions o;
+  o.sequences = {"/data/a/rgbd_dataset_freiburg1_rpy", "/data/b/teddy", "/data/c/teddy"};
+  o.method = "robust";
+  o.parameter = "trust";
+  o.grid = {300, 0.1 + 0.2, 1e12};  // 0.1 + 0.2: not a short decimal, must survive bit for bit
+  o.reference = "single";
+  o.methods = {"weighted", "joint"};
+  o.first_frame = 2;
+  o.max_frames = 40;
+  s.loso = o;
+  return s;
+}
+
+// The CSV without its column `name` (a timing: it differs from run to run).
+std::string without_column(const std::string& csv, const std::string& name) {
+  std::istringstream in(csv);
+  std::string line, out;
+  int drop = -1;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream ls(line);
+    for (std::string f; std::getline(ls, f, ',');) fields.push_back(f);
+    if (drop < 0) drop = int(std::find(fields.begin(), fields.end(), name) - fields.begin());
+    for (int k = 0; k < int(fields.size()); ++k) {
+      if (k != drop) out += fields[k] + ",";
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
+  const Study s = loso_study_by_hand();
+  check_study(s);
+  const nlohmann::json j = study_to_json(s);
+  const Study back = study_from_json(nlohmann::json::parse(j.dump()), "s.json");
+  EXPECT_EQ(study_to_json(back), j);
+  ASSERT_TRUE(back.loso);
+  EXPECT_EQ(back.loso->grid[1], 0.1 + 0.2);
+  EXPECT_EQ(back.loso->methods, s.loso->methods);
+  EXPECT_EQ(back.loso->first_frame, 2);
+  EXPECT_EQ(back.loso->max_frames, 40);
+  // Per sequence: the reference, 3 grid values, 2 fixed methods; ids name all of it.
+  const std::vector<StudyUnit> units = study_units(back);
+  ASSERT_EQ(units.size(), 18u);
+  EXPECT_EQ(units[0].id, "loso/0-freiburg1_rpy/single");
+  EXPECT_EQ(units[2].id, "loso/0-freiburg1_rpy/robust/trust-1=0.3");
+  EXPECT_EQ(units[11].id, "loso/1-teddy/joint");  // the index keeps the two "teddy" folders apart
+  EXPECT_EQ(units[17].id, "loso/2-teddy/joint");
+
+  // What the runs compute changes the hash; where the outputs go does not.
+  const std::string h = study_hash(s);
+  const auto hash_with = [&](auto change) {
+    Study t = s;
+    change(t);
+    return study_hash(t);
+  };
+  EXPECT_EQ(hash_with([](Study& t) { t.output = "/elsewhere"; }), h);
+  EXPECT_EQ(hash_with([](Study& t) { t.seed = 7; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->sequences.pop_back(); }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->method = "joint"; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->parameter = "kappa"; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->grid[0] = 301; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->reference = "weighted"; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->methods.pop_back(); }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->first_frame = 3; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->max_frames = 41; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.tracker.levels = 4; }), h);
+
+  // Strict: an unknown key, a part of another kind, a bad parameter or method are refused.
+  nlohmann::json typo = j;
+  typo["loso"]["grdi"] = typo["loso"]["grid"];
+  EXPECT_NE(error_of([&] { study_from_json(typo, "s.json"); }).find("s.json.loso: unknown key 'grdi'"),
+            std::string::npos);
+  nlohmann::json table_kind = j;
+  table_kind["kind"] = "table";
+  EXPECT_NE(error_of([&] { study_from_json(table_kind, "s.json"); }).find("needs a 'table' part"), std::string::npos);
+  table_kind["kind"] = "lsoo";
+  EXPECT_NE(error_of([&] { study_from_json(table_kind, "s.json"); }).find("valid: table, sweep, pareto, report, loso"),
+            std::string::npos);
+  nlohmann::json bad = j;
+  bad["loso"]["parameter"] = "no_such_option";
+  EXPECT_NE(error_of([&] { study_from_json(bad, "s.json"); }).find("no_such_option"), std::string::npos);
+  bad = j;
+  bad["loso"]["methods"][1] = "sideways";
+  EXPECT_NE(error_of([&] { study_from_json(bad, "s.json"); }).find("sideways"), std::string::npos);
+  Study infinite = s;  // JSON has no infinity: refused when planned, not when read back
+  infinite.loso->grid[2] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(error_of([&] { check_study(infinite); }).find("not finite"), std::string::npos);
+  bad = j;
+  bad["loso"]["methods"][1] = "single";  // the reference twice: two units of one name
+  EXPECT_NE(error_of([&] { study_units(study_from_json(bad, "s.json")); }).find("two units named"), std::string::npos);
+}
+
+TEST(LosoStudy, ARunReadsBackBitForBit) {
+  LosoRun r;
+  r.sequence = 1;
+  r.method = "robust";
+  r.has_value = true;
+  r.value = 0.1 + 0.2;
+  r.ok = true;
+  r.sequence_name = "teddy";
+  r.rpe_trans = 1.0 / 3.0;
+  r.rpe_rot = std::nextafter(2.0, 3.0);
+  r.median_cpu_ms = 12.5;
+  r.pair_trans = {0.1, 1e-300};
+  r.pair_rot = {std::numeric_limits<double>::infinity(), 0.7};
+  const LosoRun back = loso_run_from_json(nlohmann::json::parse(loso_run_to_json(r).dump()));
+  EXPECT_EQ(back.sequence, 1);
+  EXPECT_EQ(back.method, "robust");
+  EXPECT_TRUE(back.has_value);
+  EXPECT_EQ(back.value, r.value);
+  EXPECT_TRUE(back.ok);
+  EXPECT_EQ(back.sequence_name, "teddy");
+  EXPECT_EQ(back.rpe_trans, r.rpe_trans);
+  EXPECT_EQ(back.rpe_rot, r.rpe_rot);
+  EXPECT_EQ(back.median_cpu_ms, 12.5);
+  EXPECT_EQ(back.pair_trans, r.pair_trans);
+  EXPECT_EQ(back.pair_rot, r.pair_rot);
+}
+
+TEST(LosoStudy, ABadParameterIsRefusedWhenPlanned) {
+  const TempDir temp("bivo_loso_plan");
+  const fs::path& root = temp.path;
+  // Planning reads no data: the sequences need not exist.
+  const std::string flags = " --sequences /data/a /data/b --method robust --output " + q(root / "out") + " --study ";
+  Shell r = shell(bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter no_such --grid 1 2", root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("'no_such' is not a numeric tracker option"), std::string::npos) << r.err;
+  // A value outside the option's range: depth_noise_exponent is an integer in [0, 2].
+  r = shell(
+      bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter problem.depth_noise_exponent --grid 0 3",
+      root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("depth_noise_exponent"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root / "bad.json"));
+  r = shell(bivo_cli() + " plan loso" + flags + q(root / "good.json") + " --parameter trust --grid 100 1000", root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("loso study, 6 unit(s)"), std::string::npos) << r.err;
+}
+
+TEST(LosoStudy, TwoShardsMergeToTheFilesOfOneProcess) {
+  const TempDir temp("bivo_loso_study");
+  const fs::path& root = temp.path;
+  const std::vector<std::string> sequences = render_test_sequences(root / "sequences");
+  std::string flags = "--sequences";
+  for (const auto& s : sequences) flags += " " + q(s);
+  flags +=
+      " --method robust --parameter trust --grid 100 1e12 --methods weighted --max-frames 5 --levels 4"
+      " --finest-level 3 --output ";
+
+  const Shell one = shell(bivo_cli() + " loso " + flags + q(root / "one"), root);
+  ASSERT_EQ(one.status, 0) << one.err;
+  const fs::path study = root / "study.json", results = root / "results";
+  Shell r = shell(bivo_cli() + " plan loso " + flags + q(root / "merged") + " --study " + q(study), root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("8 unit(s)"), std::string::npos) << r.err;
+  for (const char* shard : {"0/2", "1/2"}) {
+    r = shell(bivo_cli() + " work " + q(study) + " --shard " + shard + " --results " + q(results), root);
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  EXPECT_EQ(result_files(results), 8);
+  const Shell m = shell(bivo_cli() + " merge " + q(study) + " " + q(results), root);
+  ASSERT_EQ(m.status, 0) << m.err;
+  EXPECT_EQ(m.out, one.out);  // the held-out table, as `bivo loso` prints it
+
+  // Not two failures comparing equal: every run succeeded and both rows have numbers.
+  const std::string md = slurp(root / "one" / "loso.md");
+  EXPECT_EQ(md.find("failed"), std::string::npos) << md;
+  for (const auto& s : sequences) EXPECT_NE(md.find("| " + fs::path(s).filename().string() + " |"), std::string::npos);
+  const std::string runs = slurp(root / "one" / "runs.csv");
+  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 9) << runs;  // a header and 8 runs
+  for (const char* exact : {"loso.md", "loso.csv", "pairs.csv", "config.json"}) {
+    EXPECT_EQ(slurp(root / "one" / exact), slurp(root / "merged" / exact)) << exact;
+  }
+  EXPECT_EQ(without_column(slurp(root / "one" / "runs.csv"), "median_cpu_ms"),
+            without_column(slurp(root / "merged" / "runs.csv"), "median_cpu_ms"));
+
+  // Results of another study (here: another grid) are refused, naming the file.
+  const fs::path other = root / "other.json";
+  std::string other_flags = flags;
+  other_flags.replace(other_flags.find("--grid 100"), 10, "--grid 300");
+  r = shell(bivo_cli() + " plan loso " + other_flags + q(root / "other") + " --study " + q(other), root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = shell(bivo_cli() + " merge " + q(other) + " " + q(results), root);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("another study"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root / "other"));
+}
