@@ -120,7 +120,8 @@ RenderedFrame sense(const SceneView& depth_view, const SceneView& colour_view, c
     if (!bias.empty()) z = biased_depth(z, bias[i], fb);
     if (offset != 0.0) z = biased_depth(z, offset, fb);
     if (settings.sensor_noise) {
-      z += dm.noise_coeff * (p == 2.0 ? z * z : std::pow(z, p)) * depth_noise[i];
+      // The z^2 case keeps its own expression (and rounding): renderings without defects keep their bytes.
+      z += p == 2.0 ? dm.noise_coeff * z * z * depth_noise[i] : dm.noise_coeff * std::pow(z, p) * depth_noise[i];
       const double speckle = speckle_disparity_error(defects, settings.noise_seed, frame_index, i);
       if (speckle != 0.0 && z > 0) {
         const double disparity = fb / z + speckle;
