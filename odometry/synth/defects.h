@@ -32,8 +32,8 @@ struct SensorDefects {
   // disparity noise of constant spread (Khoshelham & Elberink 2012); a sensor whose speckle
   // contrast fades with distance has a larger exponent, as the real fr3 depth residual shows.
   double noise_exponent = 2.0;
-  // Frame-to-frame disparity offset [px], the same at every pixel (the projected pattern
-  // drifting with the laser's temperature): an AR(1) walk o_k = offset_memory o_{k-1} +
+  // Frame-to-frame disparity offset [px], the same at every pixel (a global shift of the
+  // matched pattern, e.g. with the projector's temperature): an AR(1) walk o_k = offset_memory o_{k-1} +
   // offset_step N(0,1). Its relative depth error z o_k / (f_ir b) grows with depth.
   double disparity_offset_step_px = 0.0;
   double disparity_offset_memory = 0.0;
