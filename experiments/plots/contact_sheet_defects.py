@@ -73,7 +73,7 @@ def render(bivo, traj, work, name, flags):
 def show_depth(ax, depth, title):
     cmap = plt.get_cmap("viridis").copy()
     cmap.set_bad("black")
-    ax.imshow(np.ma.masked_equal(depth[::2, ::2], 0.0), cmap=cmap, vmin=0.5, vmax=5.0)
+    ax.imshow(np.ma.masked_equal(depth[::2, ::2], 0.0), cmap=cmap, vmin=0.5, vmax=7.0)
     ax.set_title(title, fontsize=8)
 
 
@@ -127,7 +127,7 @@ def main(argv):
     for ax in axes.flat:
         ax.set_xticks([])
         ax.set_yticks([])
-    fig.suptitle("bivo synth sensor defects: clean | with the defect | change (depth colour scale 0.5-5 m)",
+    fig.suptitle("bivo synth sensor defects: clean | with the defect | change (depth colour scale 0.5-7 m)",
                  fontsize=11, y=0.998)
     fig.tight_layout(rect=(0, 0, 1, 0.99))
     buf = io.BytesIO()
