@@ -300,6 +300,10 @@ TEST(SynthDefects, StressSetCrossesDefectsWithStructureAndTexture) {
   int structure = 0, texture = 0, fast = 0;
   for (const auto& s : set) {
     EXPECT_TRUE(s.options.render.defects.depth_bias() && s.options.render.defects.misregistered());
+    // Calibrated on real frames: outliers and per-frame offsets in both; deep noise grows as z^3.
+    EXPECT_TRUE(s.options.render.defects.depth_outliers());
+    EXPECT_GT(s.options.render.defects.disparity_offset_step_px, 0.0);
+    EXPECT_EQ(s.options.render.defects.noise_exponent, s.trajectory.empty() ? 2.0 : 3.0);
     EXPECT_EQ(s.options.frames, 5);
     structure += s.options.category.structure;
     texture += s.options.category.texture;
@@ -330,6 +334,8 @@ TEST(SynthDefects, StressSetCrossesDefectsWithStructureAndTexture) {
   EXPECT_EQ(structure, 4);
   EXPECT_EQ(texture, 4);
   EXPECT_EQ(fast, 4);
+  synth::SynthOptions o;
+  EXPECT_THROW(synth::apply_stress_profile("shallow", o), bivo::Error);
 }
 
 TEST(SynthDefects, DeepScenesPutMuchOfTheImageBeyondThreeMetres) {

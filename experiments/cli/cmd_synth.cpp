@@ -22,7 +22,7 @@ namespace bivo::experiments::cli {
 namespace {
 
 struct SynthArgs {
-  std::string category, distance, trajectory, output, trajectories;
+  std::string category, distance, trajectory, output, trajectories, stress_profile;
   odometry::synth::SynthOptions options;
   bool no_noise = false, benchmark_set = false, stress_set = false;
   std::vector<double> depth_offset, depth_rotation, depth_delay;
@@ -61,7 +61,22 @@ const char* const kPerSequenceOptions[] = {"--distance",
                                            "--wall-behind",
                                            "--view-distance",
                                            "--view-pitch",
-                                           "--static-depth-noise"};
+                                           "--static-depth-noise",
+                                           "--depth-noise-exponent",
+                                           "--depth-noise-correlation",
+                                           "--disparity-offset",
+                                           "--disparity-offset-memory",
+                                           "--speckle-outliers",
+                                           "--flying-pixels"};
+
+// What a stress profile fixes: every rendering flag but the motion, length and naming ones.
+bool motion_or_naming(const std::string& name) {
+  for (const char* keep : {"--distance", "--trajectory", "--frames", "--seed", "--name", "--start", "--fps",
+                           "--time-scale", "--speed", "--angular-speed"}) {
+    if (name == keep) return true;
+  }
+  return false;
+}
 
 void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allow_frames) {
   for (const char* name : kPerSequenceOptions) {
@@ -124,9 +139,22 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   if (a.category.empty()) throw Error("synth: --category is required (or --benchmark-set)");
   synth::SynthOptions o = a.options;
   o.category = synth::parse_category(a.category, a.distance);
+  if (!a.stress_profile.empty()) {
+    for (const char* name : kPerSequenceOptions) {
+      if (!motion_or_naming(name) && cmd.get_option(name)->count() > 0) {
+        throw Error(std::string("synth: --stress-profile fixes the sensor and scene; drop ") + name);
+      }
+    }
+    const synth::SynthOptions given = o;
+    synth::apply_stress_profile(a.stress_profile, o);
+    // Motion given on the command line wins over the profile's generated motion.
+    if (cmd.get_option("--speed")->count() > 0) o.handheld.mean_linear_speed_mps = given.handheld.mean_linear_speed_mps;
+    if (cmd.get_option("--angular-speed")->count() > 0)
+      o.handheld.mean_angular_speed_dps = given.handheld.mean_angular_speed_dps;
+  }
   o.render.sensor_noise = !a.no_noise;
-  o.render.defects.depth_offset_m = vector3(a.depth_offset, "--depth-offset");
-  o.render.defects.depth_rotation_rad = vector3(a.depth_rotation, "--depth-rotation");
+  if (!a.depth_offset.empty()) o.render.defects.depth_offset_m = vector3(a.depth_offset, "--depth-offset");
+  if (!a.depth_rotation.empty()) o.render.defects.depth_rotation_rad = vector3(a.depth_rotation, "--depth-rotation");
   if (!a.depth_delay.empty()) {
     if (a.depth_delay.size() != 2) throw Error("synth: --depth-delay takes 2 numbers (min max seconds)");
     o.render.defects.depth_delay_min_s = a.depth_delay[0];
@@ -214,6 +242,19 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--view-pitch", o.layout.pitch_deg, "nominal view's downward pitch [deg] (0 = the category's)");
   cmd->add_option("--static-depth-noise", d.static_noise_share,
                   "share of the depth noise variance that is a fixed pattern (0 = off)");
+  cmd->add_option("--depth-noise-exponent", d.noise_exponent, "depth noise sigma = c z^p: p")->capture_default_str();
+  cmd->add_option("--depth-noise-correlation", o.render.depth.noise_correlation_px,
+                  "depth noise correlation: Gaussian sigma [px] (0 = independent pixels)")
+      ->capture_default_str();
+  cmd->add_option("--disparity-offset", d.disparity_offset_step_px,
+                  "per-frame disparity offset at every pixel: sigma of its step [px] (0 = off)");
+  cmd->add_option("--disparity-offset-memory", d.disparity_offset_memory, "AR(1) memory of the disparity offset")
+      ->capture_default_str();
+  cmd->add_option("--speckle-outliers", d.speckle_outliers, "share of pixels with a 2-8 px disparity error (0 = off)");
+  cmd->add_option("--flying-pixels", d.flying_pixels,
+                  "share of occlusion-band pixels kept at a depth between the edge's sides (0 = off)");
+  cmd->add_option("--stress-profile", args->stress_profile,
+                  "deep or fast: the stress set's sensor, defects and scene along this sequence's motion");
   cmd->callback([args, cmd] { run_synth(*args, *cmd); });
 }
 

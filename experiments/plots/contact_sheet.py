@@ -6,6 +6,9 @@ the faint shading of white foil shows) and the depth.
 usage: /usr/bin/python3 contact_sheet.py SEQUENCES_DIR OUT.png
 SEQUENCES_DIR holds rgbd_dataset_freiburg3_synth_<category> folders for all 8 categories
 (e.g. the benchmark set of `bivo synth --benchmark-set`).
+
+Sensor defects (`--defects`, contact_sheet_defects.py): each defect of `bivo synth` on one
+frame beside the same frame rendered without it, and real frames beside them.
 """
 import os
 import sys
@@ -37,6 +40,10 @@ def middle_frame(seq):
 
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--defects":
+        from contact_sheet_defects import main as defects_main
+        defects_main(sys.argv[2:])
+        return
     seq_dir, out = need_args(2, "contact_sheet.py SEQUENCES_DIR OUT.png")
     fig, axes = plt.subplots(6, 4, figsize=(13, 14.2))
     for k, cat in enumerate(CATEGORIES):

@@ -15,6 +15,10 @@ namespace {
 constexpr std::uint64_t kBiasStream = 0xB1A5;
 constexpr std::uint64_t kGainStream = 0x6A1E;
 constexpr std::uint64_t kDelayStream = 0xDE1A;
+constexpr std::uint64_t kOffsetStream = 0x0FF5;
+constexpr std::uint64_t kSpeckleStream = 0x5BEC;
+constexpr std::uint64_t kFlyingStream = 0xF1E5;
+constexpr double kSpeckleMinPx = 2.0, kSpeckleMaxPx = 8.0;
 constexpr int kBiasWaves = 6;  // random plane waves summed into the low-frequency field
 
 void check(double value, double lo, double hi, const char* what) {
@@ -32,6 +36,11 @@ void validate(const SensorDefects& d) {
   check(d.bias_radial, -0.2, 0.2, "radial depth bias (relative at 1 m)");
   check(d.bias_lowfreq, 0.0, 0.2, "low-frequency depth bias (relative at 1 m)");
   check(d.static_noise_share, 0.0, 1.0, "static share of the depth noise variance");
+  check(d.noise_exponent, 0.0, 4.0, "depth noise exponent");
+  check(d.disparity_offset_step_px, 0.0, 2.0, "disparity offset step [px]");
+  check(d.disparity_offset_memory, 0.0, 1.0, "disparity offset memory");
+  check(d.speckle_outliers, 0.0, 0.5, "speckle outlier share");
+  check(d.flying_pixels, 0.0, 1.0, "flying pixel share of the occlusion band");
   check(d.bias_wavelength_px, 8.0, 1e5, "bias wavelength [px]");
   for (int i = 0; i < 3; ++i) {
     check(d.depth_offset_m[i], -1.0, 1.0, "depth camera offset [m]");
@@ -90,6 +99,31 @@ double auto_exposure_gain(const SensorDefects& d, std::uint64_t seed, std::uint6
     log_gain = d.gain_memory * log_gain + d.gain_step * gaussian(seed, kGainStream, k);
   }
   return std::exp(log_gain);
+}
+
+double disparity_offset(const SensorDefects& d, std::uint64_t seed, std::uint64_t frame) {
+  if (!(d.disparity_offset_step_px > 0)) return 0.0;
+  // As the exposure gain: started at its stationary spread, O(frame).
+  const double m = d.disparity_offset_memory;
+  double o = d.disparity_offset_step_px / std::sqrt(std::max(1e-12, 1.0 - m * m)) * gaussian(seed, kOffsetStream, 0);
+  for (std::uint64_t k = 1; k <= frame; ++k) o = m * o + d.disparity_offset_step_px * gaussian(seed, kOffsetStream, k);
+  return o;
+}
+
+double speckle_disparity_error(const SensorDefects& d, std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel) {
+  if (!(d.speckle_outliers > 0)) return 0.0;
+  const std::uint64_t key = hash3(seed, kSpeckleStream, frame);
+  if (uniform01(hash3(key, pixel, 0)) >= d.speckle_outliers) return 0.0;
+  const double size = kSpeckleMinPx + (kSpeckleMaxPx - kSpeckleMinPx) * uniform01(hash3(key, pixel, 1));
+  return uniform01(hash3(key, pixel, 2)) < 0.5 ? -size : size;
+}
+
+bool flying_pixel(const SensorDefects& d, std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel, double* t) {
+  if (!(d.flying_pixels > 0)) return false;
+  const std::uint64_t key = hash3(seed, kFlyingStream, frame);
+  if (uniform01(hash3(key, pixel, 0)) >= d.flying_pixels) return false;
+  *t = uniform01(hash3(key, pixel, 1));
+  return true;
 }
 
 double depth_delay(const SensorDefects& d, std::uint64_t seed, std::uint64_t frame) {

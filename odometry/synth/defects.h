@@ -28,6 +28,22 @@ struct SensorDefects {
   // frame (a pattern in image coordinates, as the Kinect's speckle matching errors are), the
   // rest independent per frame. 0 = all independent (the sensor model's default).
   double static_noise_share = 0.0;
+  // Depth noise sigma_z = noise_coeff * z^noise_exponent (z in m): 2 is the Kinect v1's
+  // disparity noise of constant spread (Khoshelham & Elberink 2012); a sensor whose speckle
+  // contrast fades with distance has a larger exponent, as the real fr3 depth residual shows.
+  double noise_exponent = 2.0;
+  // Frame-to-frame disparity offset [px], the same at every pixel (a global shift of the
+  // matched pattern, e.g. with the projector's temperature): an AR(1) walk o_k = offset_memory o_{k-1} +
+  // offset_step N(0,1). Its relative depth error z o_k / (f_ir b) grows with depth.
+  double disparity_offset_step_px = 0.0;
+  double disparity_offset_memory = 0.0;
+  // Speckle matching failures: this share of the measured pixels, independently per frame,
+  // get a disparity off by 2-8 px (either sign): the stored depth is far from the surface.
+  double speckle_outliers = 0.0;
+  // Flying pixels: this share of the pixels the occlusion band would drop is kept, at a depth
+  // between the pixel's own surface and the farthest-differing one within the band
+  // (mixed returns at depth edges, Nguyen, Izadi, Lovell 2012).
+  double flying_pixels = 0.0;
   // Misregistration: depth is measured by a camera at T_colour_depth (translation [m], then a
   // rotation vector [rad]) but stored as if taken by the colour camera.
   Eigen::Vector3d depth_offset_m = Eigen::Vector3d::Zero();
@@ -55,9 +71,11 @@ struct SensorDefects {
   bool misregistered() const { return !depth_offset_m.isZero(0) || !depth_rotation_rad.isZero(0); }
   bool unsynchronized() const { return depth_delay_min_s != 0.0 || depth_delay_max_s != 0.0; }
   bool timed_colour() const { return readout_s > 0.0 || exposure_s > 0.0; }
+  bool depth_outliers() const { return speckle_outliers > 0.0 || flying_pixels > 0.0; }
   bool any() const {
     return depth_bias() || static_noise_share > 0.0 || misregistered() || unsynchronized() || timed_colour() ||
-           gain_step > 0.0 || vignetting > 0.0;
+           gain_step > 0.0 || vignetting > 0.0 || noise_exponent != 2.0 || disparity_offset_step_px > 0.0 ||
+           depth_outliers();
   }
 };
 
@@ -80,6 +98,19 @@ double normalized_radius2(double u, double v, int width, int height, double cx, 
 
 // Exposure gain of frame k (1 when gain_step == 0).
 double auto_exposure_gain(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame);
+
+// Disparity offset of frame k [px] (0 when disparity_offset_step_px == 0).
+double disparity_offset(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame);
+
+// The disparity error [px] of a speckle matching failure at pixel i of frame k, or 0 when
+// the pixel matched (probability 1 - speckle_outliers).
+double speckle_disparity_error(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame,
+                               std::uint64_t pixel);
+
+// Whether pixel i of frame k, dropped by the occlusion band, is kept as a flying pixel, and
+// at which fraction t in [0, 1) of the way from its own depth to the other side's.
+bool flying_pixel(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel,
+                  double* t);
 
 // Depth capture delay of frame k after its colour timestamp [s].
 double depth_delay(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame);

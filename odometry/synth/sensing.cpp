@@ -59,6 +59,9 @@ RenderedFrame sense(const SceneView& depth_view, const SceneView& colour_view, c
     }
   }
   const int band = std::max(0, dm.occlusion_band_px);
+  const SensorDefects& defects = settings.defects;
+  // Flying pixels come back from the pixels the band drops, so keep what was valid before it.
+  const std::vector<std::uint8_t> before_band = defects.flying_pixels > 0 ? valid : std::vector<std::uint8_t>();
   for (int v = 0; v < H; ++v) {
     for (int u = 0; u < W; ++u) {
       if (!edge[static_cast<std::size_t>(v) * W + u]) continue;
@@ -69,8 +72,31 @@ RenderedFrame sense(const SceneView& depth_view, const SceneView& colour_view, c
     }
   }
 
+  // The measured depth each flying pixel is given (0 elsewhere): part of the way from its own
+  // surface to the band neighbour whose true depth differs most (a mixed return).
+  std::vector<float> flying;
+  if (!before_band.empty()) {
+    flying.assign(n, 0.0f);
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * W + u;
+        double t = 0;
+        if (valid[i] || !before_band[i] || !flying_pixel(defects, settings.noise_seed, frame_index, i, &t)) continue;
+        const double z = depth_view.true_depth[i];
+        double other = z;
+        for (int y = std::max(0, v - band); y <= std::min(H - 1, v + band); ++y) {
+          for (int x = std::max(0, u - band); x <= std::min(W - 1, u + band); ++x) {
+            const double zo = depth_view.true_depth[static_cast<std::size_t>(y) * W + x];
+            if (zo > 0 && std::fabs(zo - z) > std::fabs(other - z)) other = zo;
+          }
+        }
+        flying[i] = static_cast<float>(z + t * (other - z));
+        valid[i] = 1;
+      }
+    }
+  }
+
   const double fb = dm.ir_focal_px * dm.baseline_m;
-  const SensorDefects& defects = settings.defects;
   const std::vector<float> bias = defects.depth_bias()
                                       ? disparity_bias_field(defects, settings.noise_seed, W, H, cam.cx, cam.cy, fb)
                                       : std::vector<float>();
@@ -85,13 +111,23 @@ RenderedFrame sense(const SceneView& depth_view, const SceneView& colour_view, c
     const auto b = static_cast<float>(std::sqrt(defects.static_noise_share));
     for (std::size_t i = 0; i < depth_noise.size(); ++i) depth_noise[i] = a * depth_noise[i] + b * pattern[i];
   }
+  const double offset = disparity_offset(defects, settings.noise_seed, frame_index);
+  const double p = defects.noise_exponent;
   std::size_t n_valid = 0;
   for (std::size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) continue;
-    double z = depth_view.true_depth[i];
+    double z = flying.empty() || flying[i] == 0.0f ? depth_view.true_depth[i] : flying[i];
     if (!bias.empty()) z = biased_depth(z, bias[i], fb);
+    if (offset != 0.0) z = biased_depth(z, offset, fb);
     if (settings.sensor_noise) {
-      z += dm.noise_coeff * z * z * depth_noise[i];
+      // The z^2 case keeps its own expression (and rounding): renderings without defects keep their bytes.
+      z += p == 2.0 ? dm.noise_coeff * z * z * depth_noise[i] : dm.noise_coeff * std::pow(z, p) * depth_noise[i];
+      const double speckle = speckle_disparity_error(defects, settings.noise_seed, frame_index, i);
+      if (speckle != 0.0 && z > 0) {
+        const double disparity = fb / z + speckle;
+        z = disparity > 0 ? fb / disparity : 0.0;
+        if (z < dm.min_range_m || z > dm.max_range_m) continue;  // matched outside the range: no measurement
+      }
       if (dm.disparity_step_px > 0 && z > 0) {
         const double disparity = std::round(fb / z / dm.disparity_step_px) * dm.disparity_step_px;
         z = disparity > 0 ? fb / disparity : 0.0;

@@ -149,6 +149,14 @@ json scene_json(const SynthOptions& o, const Scene& scene, const std::string& mo
                              {"gain_step", d.gain_step},
                              {"gain_memory", d.gain_memory},
                              {"vignetting", d.vignetting}};
+    // Only when on, so stress-set renderings made before these existed keep their bytes.
+    if (d.noise_exponent != 2.0) out["sensor_defects"]["noise_exponent"] = d.noise_exponent;
+    if (d.disparity_offset_step_px > 0) {
+      out["sensor_defects"]["disparity_offset_step_px"] = d.disparity_offset_step_px;
+      out["sensor_defects"]["disparity_offset_memory"] = d.disparity_offset_memory;
+    }
+    if (d.speckle_outliers > 0) out["sensor_defects"]["speckle_outliers"] = d.speckle_outliers;
+    if (d.flying_pixels > 0) out["sensor_defects"]["flying_pixels"] = d.flying_pixels;
     out["stats"]["depth_delays_s"] = depth_delays;
   }
   return out;

@@ -32,6 +32,11 @@ std::vector<StressSequence> stress_set(int frames = kStressFrames);
 // The defects both profiles share (values and sources: docs/synthetic.md).
 SensorDefects stress_depth_and_image_defects();
 
+// Sets o's defects, depth model, layout (from o.category) and generated motion to the
+// stress profile "deep" or "fast" (throws bivo::Error on another name), so the profile can
+// be rendered along any motion (`bivo synth --stress-profile`).
+void apply_stress_profile(const std::string& profile, SynthOptions& o);
+
 // Renders the set (or the entries whose name contains `only`) into output_dir and writes
 // output_dir/stress_set.json (definition + digest of every folder). Returns the folders.
 std::vector<std::string> render_stress_set(const std::string& trajectories_dir, const std::string& output_dir,
