@@ -5,9 +5,9 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <random>
 #include <sstream>
 
+#include "odometry/io/own_temporaries.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry::io {
@@ -41,14 +41,15 @@ void write_new_file(const std::string& path, const std::string& target, const st
   };
   std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "wbx"));
   if (!file) {
-    throw Error("cannot write '" + target + "': " + std::strerror(errno) + " (folder missing or not writable?)");
+    throw Error("cannot write '" + target + "': " + std::strerror(errno));
   }
   const bool ok =
       std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size() && std::fflush(file.get()) == 0;
   const bool closed = std::fclose(file.release()) == 0;
   if (!ok || !closed) {
+    const std::string why = std::strerror(errno);
     std::remove(path.c_str());
-    throw Error("cannot write '" + target + "': write failed (disk full?)");
+    throw Error("cannot write '" + target + "': " + why);
   }
 }
 
@@ -86,6 +87,7 @@ StagedOutputs::~StagedOutputs() {
 
 void StagedOutputs::add(const std::string& path, const std::function<void(std::ostream&)>& write) {
   check_output_target(path);
+  remove_dead_temporaries(path);
   std::ostringstream content;
   write(content);
   if (!content) throw Error("cannot write '" + path + "': formatting failed");
@@ -110,12 +112,7 @@ void write_file_atomically(const std::string& path, const std::function<void(std
   out.commit();
 }
 
-std::string temporary_path_for(const std::string& path) {
-  std::random_device rd;
-  std::ostringstream s;
-  s << path << ".tmp" << std::hex << rd() << rd();
-  return s.str();
-}
+std::string temporary_path_for(const std::string& path) { return own_temporary_name(path); }
 
 void commit_temporary(const std::string& temporary, const std::string& path) {
   try {
