@@ -163,7 +163,7 @@ std::string completeness_text(const CollectedResults& r) {
 MergeOutput merge_results(const Study& study, const std::map<std::string, json>& results, const std::string& dir) {
   check_study(study);
   const std::vector<StudyUnit> units = study_units(study);
-  fs::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   MergeOutput out;
   out.units = int(units.size());
   for (const StudyUnit& u : units) {

@@ -5,7 +5,9 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <sstream>
+#include <vector>
 
 #include "odometry/io/own_temporaries.h"
 #include "solvers/error.h"
@@ -53,7 +55,51 @@ void write_new_file(const std::string& path, const std::string& target, const st
   }
 }
 
+// The active OutputJournal's record: paths created, oldest first, and whether each is a folder.
+struct JournalState {
+  std::mutex mutex;
+  bool active = false;
+  std::vector<std::pair<std::string, bool>> created;
+};
+
+JournalState& journal() {
+  static JournalState state;
+  return state;
+}
+
+void record_created(const std::string& path, bool folder) {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (j.active) j.created.emplace_back(path, folder);
+}
+
 }  // namespace
+
+OutputJournal::OutputJournal() {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (j.active) throw Error("internal: two output journals at once");
+  j.active = true;
+  j.created.clear();
+}
+
+OutputJournal::~OutputJournal() {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (!keep_) {
+    std::error_code ec;
+    for (auto it = j.created.rbegin(); it != j.created.rend(); ++it) {
+      // A folder goes only when empty: whatever else appeared in it meanwhile stays.
+      if (it->second) {
+        fs::remove(it->first, ec);
+      } else if (fs::symlink_status(it->first, ec).type() == fs::file_type::regular) {
+        fs::remove(it->first, ec);
+      }
+    }
+  }
+  j.created.clear();
+  j.active = false;
+}
 
 void check_output_target(const std::string& path) {
   if (path.empty()) throw Error("empty output path");
@@ -77,8 +123,20 @@ void create_output_directory(const std::string& dir) {
   if (fs::exists(fs::symlink_status(dir, ec))) {
     throw Error("cannot use '" + dir + "' as output folder: it exists and is not a folder");
   }
-  fs::create_directories(dir, ec);
-  if (ec) throw Error("cannot create output folder '" + dir + "': " + ec.message());
+  // One level at a time, so that the journal knows which folders this run made.
+  std::vector<fs::path> missing;
+  for (fs::path p = fs::path(dir).lexically_normal(); !p.empty() && !fs::exists(fs::symlink_status(p, ec));
+       p = p.parent_path()) {
+    missing.push_back(p);
+    if (p == p.root_path() || p.parent_path() == p) break;
+  }
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (!fs::create_directory(*it, ec) && ec) {
+      throw Error("cannot create output folder '" + dir + "': '" + it->string() + "': " + ec.message());
+    }
+    record_created(it->string(), true);
+  }
+  if (!fs::is_directory(dir, ec)) throw Error("cannot create output folder '" + dir + "'");
 }
 
 StagedOutputs::~StagedOutputs() {
@@ -121,11 +179,14 @@ void commit_temporary(const std::string& temporary, const std::string& path) {
     std::remove(temporary.c_str());
     throw;
   }
+  std::error_code ec;
+  const bool is_new = !fs::exists(fs::symlink_status(path, ec));
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
     throw Error("cannot write '" + path + "': rename from temporary file failed (" + why + ")");
   }
+  if (is_new) record_created(path, false);
 }
 
 }  // namespace bivo::odometry::io

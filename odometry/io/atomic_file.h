@@ -45,4 +45,20 @@ void write_file_atomically(const std::string& path, const std::function<void(std
 std::string temporary_path_for(const std::string& path);
 void commit_temporary(const std::string& temporary, const std::string& path);
 
+// While one lives, every output file and folder that this process creates (not those it
+// replaces) is recorded; unless keep() was called, its destructor removes them again, newest
+// first, so a command that fails half-way through writing (a full disk) leaves nothing
+// partial behind. One at a time; writes from any thread are recorded.
+class OutputJournal {
+ public:
+  OutputJournal();
+  OutputJournal(const OutputJournal&) = delete;
+  OutputJournal& operator=(const OutputJournal&) = delete;
+  ~OutputJournal();
+  void keep() { keep_ = true; }
+
+ private:
+  bool keep_ = false;
+};
+
 }  // namespace bivo::odometry::io
