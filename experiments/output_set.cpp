@@ -42,10 +42,9 @@ void check_output_files(const std::vector<NamedPath>& outputs, const std::vector
                     "' are the same file; give each output its own path");
       }
     }
-    const fs::path name = fs::path(out.path).filename();
     for (const NamedPath& in : inputs) {
-      // Only inputs of the same file name can be the same file: the cheap test first.
-      if (in.path.empty() || fs::path(in.path).filename() != name) continue;
+      // A hard link to an input has a name of its own: compared by file identity too.
+      if (in.path.empty()) continue;
       if (same_file(in.path, out.path)) {
         throw Error(out.role + " '" + out.path + "' is an input of this run (" + in.role + " '" + in.path +
                     "'); refusing to overwrite it");
