@@ -12,6 +12,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/output_set.h"
+#include "odometry/io/atomic_file.h"
 #include "odometry/io/staged_folder.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/synth/benchmark_set.h"
@@ -245,7 +246,11 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--view-pitch", o.layout.pitch_deg, "nominal view's downward pitch [deg] (0 = the category's)");
   cmd->add_option("--static-depth-noise", d.static_noise_share,
                   "share of the depth noise variance that is a fixed pattern (0 = off)");
-  cmd->callback([args, cmd] { run_synth(*args, *cmd); });
+  cmd->callback([args, cmd] {
+    odometry::io::OutputJournal journal;  // a failed rendering takes the folders it made back
+    run_synth(*args, *cmd);
+    journal.keep();
+  });
 }
 
 }  // namespace bivo::experiments::cli
