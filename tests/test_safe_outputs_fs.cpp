@@ -272,3 +272,32 @@ TEST_F(SafeFs, RunOutputHardLinkedToTheGroundTruth) {
   EXPECT_EQ(slurp(gt), before);
   EXPECT_EQ(slurp(dir() / "linked.txt"), before);
 }
+
+// `table --config out/config.json --output out` replaced its own configuration with the one it
+// wrote; a merge into the folder of its study file replaced the study.json it was reading.
+TEST_F(SafeFs, OutputsNeverReplaceTheFilesTheyRead) {
+  fs::create_directories(dir() / "out");
+  const std::string config = "{\"method\": \"single\", \"levels\": 2}\n";
+  std::ofstream(dir() / "out" / "config.json") << config;
+  const BivoRun t = bivo("table --sequences " + q(sequence_) + " --config " + q(dir() / "out" / "config.json") +
+                         " --output " + q(dir() / "out"));
+  expect_clear_error(t, "it is an input of this run");
+  EXPECT_EQ(slurp(dir() / "out" / "config.json"), config);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir() / "out"), fs::directory_iterator()), 1);
+
+  const fs::path study = dir() / "merged" / "study.json";
+  fs::create_directories(study.parent_path());
+  ASSERT_EQ(bivo("plan table --study " + q(study) + " --sequences " + q(sequence_) +
+                 " --methods single --levels 2 --max-frames 2 --output " + q(study.parent_path()))
+                .status,
+            0);
+  ASSERT_EQ(bivo("work " + q(study)).status, 0);
+  const std::string planned = slurp(study);
+  const BivoRun m = bivo("merge " + q(study));
+  expect_clear_error(m, "refusing to write '" + study.string() + "': it is an input of this run");
+  EXPECT_EQ(slurp(study), planned);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(study.parent_path())) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"study.json", "study.results"}));
+}

@@ -10,6 +10,7 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/conic_files/cbf_file.h"
+#include "odometry/io/atomic_file.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"
 
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 30));
   app.fallthrough();
+  const bivo::odometry::io::InputRegistry inputs;  // no output of this run replaces a file it read
   namespace ex = bivo::experiments::cli;
   ex::add_demo_command(app);
   ex::add_run_command(app);

@@ -67,6 +67,29 @@ JournalState& journal() {
   return state;
 }
 
+struct InputState {
+  std::mutex mutex;
+  bool active = false;
+  std::vector<std::string> paths;
+};
+
+InputState& inputs() {
+  static InputState state;
+  return state;
+}
+
+// The input that `path` is (the same file by identity, so a hard link counts), or "".
+std::string input_at(const std::string& path) {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  std::error_code ec;
+  if (!in.active || !fs::exists(fs::symlink_status(path, ec))) return "";
+  for (const std::string& input : in.paths) {
+    if (fs::equivalent(path, input, ec)) return input;
+  }
+  return "";
+}
+
 void record_created(const std::string& path, bool folder) {
   JournalState& j = journal();
   std::lock_guard<std::mutex> lock(j.mutex);
@@ -74,6 +97,26 @@ void record_created(const std::string& path, bool folder) {
 }
 
 }  // namespace
+
+InputRegistry::InputRegistry() {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  in.active = true;
+  in.paths.clear();
+}
+
+InputRegistry::~InputRegistry() {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  in.active = false;
+  in.paths.clear();
+}
+
+void record_input(const std::string& path) {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  if (in.active) in.paths.push_back(path);
+}
 
 OutputJournal::OutputJournal() {
   JournalState& j = journal();
@@ -108,6 +151,9 @@ void check_output_target(const std::string& path) {
   if (fs::exists(status) && status.type() != fs::file_type::regular) {
     throw Error("refusing to write '" + path + "': it is " + kind_of(status.type()) +
                 ", not a regular file, and would be replaced");
+  }
+  if (const std::string input = input_at(path); !input.empty()) {
+    throw Error("refusing to write '" + path + "': it is an input of this run ('" + input + "')");
   }
   fs::path folder = fs::path(path).parent_path();
   if (folder.empty()) folder = ".";

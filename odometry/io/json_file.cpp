@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry::io {
@@ -18,10 +19,12 @@ nlohmann::json read_json_file(const std::string& path, const std::string& what, 
   // The callback throws out of the parser, which then unwinds what it has built.
   struct TooDeep {};
   try {
-    return json::parse(in, [max_depth](int depth, json::parse_event_t, json&) {
+    json j = json::parse(in, [max_depth](int depth, json::parse_event_t, json&) {
       if (depth > max_depth) throw TooDeep{};
       return true;
     });
+    record_input(path);  // read whole: this run must not write over it
+    return j;
   } catch (const TooDeep&) {
     throw Error(path + ": values nested more than " + std::to_string(max_depth) + " levels deep");
   } catch (const json::exception& e) {
