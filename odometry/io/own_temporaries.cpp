@@ -6,7 +6,9 @@
 #include <cerrno>
 #include <climits>
 #include <filesystem>
+#include <mutex>
 #include <random>
+#include <set>
 #include <sstream>
 
 namespace bivo::odometry::io {
@@ -56,15 +58,22 @@ void remove_dead_temporaries(const std::string& path) {
   std::error_code ec;
   fs::path folder = fs::path(path).parent_path();
   if (folder.empty()) folder = ".";
-  const std::string prefix = fs::path(path).filename().string() + kTag;
+  {
+    // Once per folder and process: a study writes thousands of files into one folder.
+    static std::mutex mutex;
+    static std::set<std::string> scanned;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!scanned.insert(fs::absolute(folder, ec).lexically_normal().string()).second) return;
+  }
   const std::string host = host_name();
   fs::directory_iterator it(folder, ec);
   for (; !ec && it != fs::directory_iterator(); it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const auto at = name.rfind(kTag);
+    if (at == std::string::npos || at == 0) continue;
     long pid = 0;
     std::string owner_host;
-    if (!parse_tail(name.substr(prefix.size()), &pid, &owner_host)) continue;
+    if (!parse_tail(name.substr(at + sizeof kTag - 1), &pid, &owner_host)) continue;
     std::error_code status_ec;
     if (!it->is_regular_file(status_ec) || it->is_symlink(status_ec)) continue;
     if (owner_host == host && process_is_gone(pid)) fs::remove(it->path(), status_ec);

@@ -10,8 +10,9 @@ namespace bivo::odometry::io {
 // "<path>.tmp-bivo.<pid>.<random>.<host>": a fresh temporary name beside `path`.
 std::string own_temporary_name(const std::string& path);
 
-// Removes the temporaries of `path` (files named by own_temporary_name) whose process ran on
-// this host and is gone. Never follows a symlink, never removes a folder.
+// Removes the temporaries in the folder of `path` (files named by own_temporary_name) whose
+// process ran on this host and is gone; each folder is looked at once per process. Never
+// follows a symlink, never removes a folder.
 void remove_dead_temporaries(const std::string& path);
 
 // The owner record of a temporary folder: "<host>\n<pid>\n".
