@@ -30,6 +30,7 @@ DemoResult run_demo(const DemoOptions& a) {
     so.category = c;
     so.frames = a.frames;
     so.seed = a.seed;
+    so.replace_own_folder = a.rerender;  // only a folder an earlier demo rendered
     const std::string path = seq_dir + "/" + synth::default_sequence_name(c);
     // A finished sequence folder only exists complete (rendered under a temporary name).
     if (a.rerender || !fs::exists(path + "/groundtruth.txt")) {

@@ -128,7 +128,7 @@ MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCel
 void write_matrix_trajectories(const MethodMatrix& matrix, const std::string& dir) {
   for (const auto& cell : matrix.cells) {
     if (!cell.run) continue;
-    std::filesystem::create_directories(dir);
+    odometry::io::create_output_directory(dir);
     odometry::io::write_tum_trajectory(dir + "/" + cell.sequence + "__" + cell.spec.method +
                                            (cell.spec.backend.empty() ? "" : "-" + cell.spec.backend) + ".txt",
                                        cell.run->trajectory);
@@ -268,7 +268,7 @@ std::string matrix_markdown(const MethodMatrix& m) {
 }
 
 std::string write_matrix(const MethodMatrix& m, const std::string& dir) {
-  std::filesystem::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   auto write = [&](const std::string& name, const std::string& text) {
     odometry::io::write_file_atomically(dir + "/" + name, [&](std::ostream& o) { o << text; });
   };

@@ -1,8 +1,14 @@
 #include "experiments/output_set.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/own_temporaries.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -36,10 +42,9 @@ void check_output_files(const std::vector<NamedPath>& outputs, const std::vector
                     "' are the same file; give each output its own path");
       }
     }
-    const fs::path name = fs::path(out.path).filename();
     for (const NamedPath& in : inputs) {
-      // Only inputs of the same file name can be the same file: the cheap test first.
-      if (in.path.empty() || fs::path(in.path).filename() != name) continue;
+      // A hard link to an input has a name of its own: compared by file identity too.
+      if (in.path.empty()) continue;
       if (same_file(in.path, out.path)) {
         throw Error(out.role + " '" + out.path + "' is an input of this run (" + in.role + " '" + in.path +
                     "'); refusing to overwrite it");
@@ -54,15 +59,23 @@ void check_output_folder(const NamedPath& folder) {
   fs::path p = fs::absolute(folder.path, ec);
   if (fs::exists(p, ec)) {
     if (!fs::is_directory(p, ec)) throw Error(folder.role + " '" + folder.path + "' exists and is not a folder");
-    return;
+  } else {
+    // Nearest existing ancestor must be a folder, or create_directories fails half-way.
+    for (p = p.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+      if (p == p.root_path()) break;
+    }
+    if (!p.empty() && fs::exists(p, ec) && !fs::is_directory(p, ec)) {
+      throw Error(folder.role + " '" + folder.path + "' cannot be created: '" + p.string() + "' is not a folder");
+    }
   }
-  // Nearest existing ancestor must be a folder, or create_directories fails half-way.
-  for (p = p.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
-    if (p == p.root_path()) break;
+  // Whether anything can be made there (read-only filesystem, /proc, permissions) is only
+  // known by trying: a probe folder, removed at once, before hours of work are spent.
+  const fs::path probe = odometry::io::own_temporary_name((p / ".bivo-probe").string());
+  if (::mkdir(probe.c_str(), 0700) != 0) {
+    throw Error(folder.role + " '" + folder.path + "' cannot be written: '" + p.string() +
+                "': " + std::strerror(errno));
   }
-  if (!p.empty() && fs::exists(p, ec) && !fs::is_directory(p, ec)) {
-    throw Error(folder.role + " '" + folder.path + "' cannot be created: '" + p.string() + "' is not a folder");
-  }
+  ::rmdir(probe.c_str());
 }
 
 }  // namespace bivo::experiments

@@ -151,7 +151,7 @@ SweepResult run_sweep(const SweepOptions& o) {
 }
 
 std::string write_sweep(const SweepResult& r, const std::string& dir) {
-  std::filesystem::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   std::ostringstream csv, md;
   csv << "sequence,parameter,value,rpe_trans,max_err,rmse_ratio,max_ratio,median_ms,failures\n";
   md << "| sequence | parameter | value | RPE trans [m/s] | max [m/s] | RMSE ratio | max ratio | ms/pair |\n"

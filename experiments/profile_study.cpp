@@ -183,7 +183,7 @@ std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
 }
 
 std::string write_profile(const std::vector<ProfileRow>& rows, const std::string& dir) {
-  std::filesystem::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   std::vector<std::string> phases = kPhases;
   for (const auto& r : rows) {
     for (const auto& [name, ms] : r.phase_ms) {

@@ -57,7 +57,7 @@ std::string setup_markdown(const ReportOptions& o, const MethodMatrix& m) {
 
 ReportResult write_report(const ReportOptions& o, const ReportParts& parts, const std::string& dir) {
   namespace fs = std::filesystem;
-  fs::create_directories(dir + "/images");
+  odometry::io::create_output_directory(dir + "/images");
   ReportResult result;
   std::ostringstream md;
   md << "# " << o.title << "\n\n" << o.preamble << (o.preamble.empty() ? "" : "\n\n");
@@ -110,7 +110,7 @@ ReportResult write_report(const ReportOptions& o, const ReportParts& parts, cons
           "F_I and F_D of every point evaluated at its pose with robust weights estimated there; colour = "
           "translation error of the point's T_21 against ground truth; stars = the pose each method "
           "estimates for the pair; diamond = knee (farthest from the chord in normalized objectives).\n\n";
-    fs::create_directories(dir + "/pareto");
+    odometry::io::create_output_directory(dir + "/pareto");
     for (const ReportPareto& rp : parts.pareto) {
       if (!rp.study) {
         md << "Pareto front of " << rp.sequence << " failed: " << rp.error << "\n\n";

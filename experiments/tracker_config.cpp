@@ -9,6 +9,7 @@
 
 #include "experiments/tracker_option_table.h"
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/json_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -56,11 +57,7 @@ void check_keys(const json& j, const std::string& prefix, const std::string& whe
 
 // A configuration is a few levels deep; a document nested thousands deep is refused while it
 // is read, before anything recurses through it.
-bool limit_depth(int depth, json::parse_event_t, json&) {
-  constexpr int kMaxDepth = 16;
-  if (depth > kMaxDepth) throw Error("nested deeper than " + std::to_string(kMaxDepth) + " levels");
-  return true;
-}
+constexpr int kMaxConfigDepth = 16;
 
 }  // namespace
 
@@ -97,24 +94,14 @@ TrackerOptions tracker_options_from_json(const json& j, const std::string& where
 }
 
 TrackerOptions read_tracker_config(const std::string& path, const TrackerOptions& base) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open tracker configuration '" + path + "'");
-  json j;
-  try {
-    j = json::parse(in, limit_depth);
-  } catch (const json::exception& e) {
-    throw Error(path + ": not valid JSON (" + e.what() + ")");
-  } catch (const Error& e) {
-    throw Error(path + ": " + e.what());
-  }
-  return tracker_options_from_json(j, path, base);
+  return tracker_options_from_json(odometry::io::read_json_file(path, "tracker configuration", kMaxConfigDepth), path,
+                                   base);
 }
 
 bool tracker_config_names_method(const std::string& path) {
-  std::ifstream in(path);
   json j;
   try {
-    j = json::parse(in, limit_depth, false);
+    j = odometry::io::read_json_file(path, "tracker configuration", kMaxConfigDepth);
   } catch (const Error&) {
     return false;
   }

@@ -254,7 +254,7 @@ TEST(SynthSequence, SameSeedGivesIdenticalFilesWhateverTheThreadsOtherSeedDoesNo
     }
     ++compared;
   }
-  EXPECT_EQ(compared, 2 * 2 + 5);
+  EXPECT_EQ(compared, 2 * 2 + 5 + 1);  // two PNGs per frame, five text files, the output marker
   const auto rgb = list_column(a / "rgb.txt", 1);
   EXPECT_NE(bytes(a / rgb[0]), bytes(c / list_column(c / "rgb.txt", 1)[0]));
   fs::remove_all(out);

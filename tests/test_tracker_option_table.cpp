@@ -225,7 +225,7 @@ TEST_F(TrackerOptionSources, ADeepConfigIsRefusedNotACrash) {
   const BivoRun deep =
       bivo("run " + q(sequence_) + " --config " + q(dir_ / "deep.json") + " --output " + q(dir_ / "out.txt"));
   EXPECT_EQ(deep.status, 1) << deep.err;
-  EXPECT_TRUE(contains(deep.err, "deep.json: nested deeper than 16 levels")) << deep.err;
+  EXPECT_TRUE(contains(deep.err, "deep.json: values nested more than 16 levels deep")) << deep.err;
   EXPECT_FALSE(fs::exists(dir_ / "out.txt"));
   EXPECT_NE(bivo::testing::error_of([] {
               experiments::tracker_options_from_json(json::parse(R"({"policy": {"eps": [[1]]}})"), "c");

@@ -3,6 +3,7 @@
 // Format: experiments/conic_files/cbf_file.h) with the project's IPM.
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "experiments/cli/commands.h"
@@ -42,13 +43,21 @@ void add_conic_command(CLI::App& app) {
   cmd->callback([] {
     const bool cbf = format == "cbf" || (format == "auto" && is_cbf_path(file));
     CbfProblem problem;
-    if (cbf)
-      problem = read_cbf(file);
-    else
-      problem.problem = read_conic_json(file);
-    if (verbose) settings.log = &std::cout;
-    settings.polish = !no_polish;
-    const solvers::conic::IpmResult r = solvers::conic::solve_conic(problem.problem, settings);
+    solvers::conic::IpmResult r;
+    // Sizes up to --max-conic-size are accepted; whether they fit in this machine's memory
+    // is only known when allocating.
+    try {
+      if (cbf)
+        problem = read_cbf(file);
+      else
+        problem.problem = read_conic_json(file);
+      if (verbose) settings.log = &std::cout;
+      settings.polish = !no_polish;
+      r = solvers::conic::solve_conic(problem.problem, settings);
+    } catch (const std::bad_alloc&) {
+      throw Error("conic: the problem in '" + file + "' does not fit in memory (--max-conic-size " +
+                  std::to_string(max_cbf_size()) + " admits it; lower it to refuse such files up front)");
+    }
     std::cout << conic_result_text(r, print_solution);
     if (!r.note.empty()) std::cout << "note: " << r.note << "\n";
     if (cbf && r.status == solvers::conic::IpmStatus::kOptimal) {

@@ -5,8 +5,10 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/output_set.h"
 #include "experiments/study/study_merge.h"
 #include "experiments/study/study_work.h"
+#include "odometry/io/atomic_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {
@@ -38,7 +40,9 @@ void add_study_command(CLI::App& app, const std::string& name, const std::string
   auto keep_going = std::make_shared<bool>(false);
   add_keep_going_flag(cmd, *keep_going);
   cmd->callback([make, keep_going] {
+    odometry::io::OutputJournal journal;  // a failed write takes the others back
     const MergeOutput out = run_study(make(), &std::cerr);
+    journal.keep();
     print_study_output(out);
     finish_with_failures(out.failures, out.units, *keep_going);
   });
@@ -60,6 +64,8 @@ void add_merge_command(CLI::App& app) {
   cmd->callback([a] {
     const Study study = read_study(a->study);
     const std::string results = a->results.empty() ? default_results_dir(a->study) : a->results;
+    const std::string output = a->output.empty() ? study.output : a->output;
+    check_output_folder({"--output", output});
     const CollectedResults collected = collect_results(study, results);
     std::cerr << "merge: " << collected.files << " result file(s) in " << results << ": "
               << completeness_text(collected);
@@ -70,7 +76,9 @@ void add_merge_command(CLI::App& app) {
     }
     std::map<std::string, nlohmann::json> by_unit;
     for (const auto& [id, file] : collected.by_unit) by_unit[id] = file.result;
-    const MergeOutput out = merge_results(study, by_unit, a->output.empty() ? study.output : a->output);
+    odometry::io::OutputJournal journal;
+    const MergeOutput out = merge_results(study, by_unit, output);
+    journal.keep();
     print_study_output(out);
     finish_with_failures(out.failures, out.units, a->keep_going);
   });

@@ -3,6 +3,7 @@
 // fixed benchmark set of all eight categories (--benchmark-set, odometry/synth/benchmark_set.h),
 // or the stress set with real sensor defects (--stress-set, odometry/synth/stress_set.h).
 #include <chrono>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,8 @@
 
 #include "experiments/cli/commands.h"
 #include "experiments/output_set.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/staged_folder.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/synth/benchmark_set.h"
 #include "odometry/synth/sequence.h"
@@ -21,10 +24,12 @@ namespace bivo::experiments::cli {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 struct SynthArgs {
   std::string category, distance, trajectory, output, trajectories, stress_profile;
   odometry::synth::SynthOptions options;
-  bool no_noise = false, benchmark_set = false, stress_set = false;
+  bool no_noise = false, benchmark_set = false, stress_set = false, force = false;
   std::vector<double> depth_offset, depth_rotation, depth_delay;
 };
 
@@ -96,7 +101,7 @@ void run_stress_set(const SynthArgs& a, const CLI::App& cmd) {
   }
   const int frames = cmd.get_option("--frames")->count() > 0 ? a.options.frames : odometry::synth::kStressFrames;
   for (const std::string& dir :
-       odometry::synth::render_stress_set(a.trajectories, a.output, frames, a.category, a.options.threads)) {
+       odometry::synth::render_stress_set(a.trajectories, a.output, frames, a.category, a.options.threads, a.force)) {
     std::cout << dir << "\n";
   }
 }
@@ -117,11 +122,27 @@ void run_benchmark_set(const SynthArgs& a, const CLI::App& cmd) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   for (const std::string& dir :
-       odometry::synth::render_benchmark_set(a.trajectories, a.output, a.category, a.options.threads)) {
+       odometry::synth::render_benchmark_set(a.trajectories, a.output, a.category, a.options.threads, a.force)) {
     std::cout << dir << "\n";
   }
   std::cerr << "synth: benchmark set rendered in " << std::fixed << std::setprecision(1)
             << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
+}
+
+// `path` lies in `folder` (after resolving symlinks and "..", or as a hard link to a file there).
+bool is_inside(const std::string& path, const fs::path& folder) {
+  std::error_code ec;
+  const fs::path file = fs::weakly_canonical(fs::absolute(path), ec);
+  const fs::path dir = fs::weakly_canonical(fs::absolute(folder), ec);
+  for (fs::path p = file; !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    if (p == dir) return true;
+  }
+  if (!fs::is_directory(folder, ec)) return false;
+  for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e;
+    if (it->is_regular_file(e) && fs::equivalent(it->path(), path, e)) return true;
+  }
+  return false;
 }
 
 void run_synth(const SynthArgs& a, const CLI::App& cmd) {
@@ -159,6 +180,15 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
     if (a.depth_delay.size() != 2) throw Error("synth: --depth-delay takes 2 numbers (min max seconds)");
     o.render.defects.depth_delay_min_s = a.depth_delay[0];
     o.render.defects.depth_delay_max_s = a.depth_delay[1];
+  }
+  o.replace_own_folder = a.force;
+  // Before any work: the target may be written, and it does not hold the motion being read.
+  const fs::path target =
+      fs::path(a.output) / (o.sequence_name.empty() ? synth::default_sequence_name(o.category) : o.sequence_name);
+  odometry::io::check_folder_target(target.string(), a.force);
+  if (!a.trajectory.empty() && is_inside(a.trajectory, target)) {
+    throw Error("synth: --trajectory '" + a.trajectory + "' is inside the output folder '" + target.string() +
+                "' (or a hard link to a file there), which rendering replaces; copy it elsewhere first");
   }
   std::string path;
   if (a.trajectory.empty()) {
@@ -199,6 +229,8 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--output", args->output, "parent folder; the sequence is written to OUTPUT/<sequence name>")
       ->required();
   cmd->add_option("--name", o.sequence_name, "sequence folder name (must contain 'freiburg3')");
+  cmd->add_flag("--force", args->force,
+                "replace an existing sequence folder that bivo rendered (never one it did not write, nor a symlink)");
   cmd->add_option("--start", o.start_offset_s, "seconds after the trajectory's first pose to start")
       ->capture_default_str();
   cmd->add_option("--fps", o.fps, "frame rate [Hz]")->capture_default_str();
@@ -255,7 +287,11 @@ void add_synth_command(CLI::App& app) {
                   "share of occlusion-band pixels kept at a depth between the edge's sides (0 = off)");
   cmd->add_option("--stress-profile", args->stress_profile,
                   "deep or fast: the stress set's sensor, defects and scene along this sequence's motion");
-  cmd->callback([args, cmd] { run_synth(*args, *cmd); });
+  cmd->callback([args, cmd] {
+    odometry::io::OutputJournal journal;  // a failed rendering takes the folders it made back
+    run_synth(*args, *cmd);
+    journal.keep();
+  });
 }
 
 }  // namespace bivo::experiments::cli

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/output_set.h"
 #include "experiments/study/study_work.h"
 
 namespace bivo::experiments::cli {
@@ -25,6 +26,7 @@ void add_work_command(CLI::App& app) {
     const Study study = read_study(a->study);
     const ShardSpec shard = parse_shard(a->shard);
     const std::string results = a->results.empty() ? default_results_dir(a->study) : a->results;
+    check_output_folder({"--results", results});
     const WorkSummary summary = work_shard(study, shard, results, std::cerr);
     finish_with_failures(summary.failed, summary.ran, a->keep_going);
   });

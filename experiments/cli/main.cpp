@@ -1,14 +1,31 @@
 // The `bivo` command line: one CLI11 app, one subcommand per experiments/cli/cmd_*.cpp.
 #include <cstdint>
 #include <exception>
+#include <filesystem>
 #include <iostream>
+#include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "experiments/cli/commands.h"
 #include "experiments/conic_files/cbf_file.h"
+#include "odometry/io/atomic_file.h"
 #include "odometry/io/input_limits.h"
 #include "solvers/error.h"
+
+namespace {
+
+// "filesystem error: cannot create directories: <cause> [<path>]" -> "create directories".
+std::string fs_operation(const std::filesystem::filesystem_error& e) {
+  std::string what = e.what();
+  const std::string head = "filesystem error: cannot ";
+  if (what.rfind(head, 0) != 0) return "access";
+  what = what.substr(head.size());
+  return what.substr(0, what.find(':'));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"bivo: a testbed for bi-objective optimization, flagship instance RGB-D odometry"};
@@ -27,6 +44,7 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 30));
   app.fallthrough();
+  const bivo::odometry::io::InputRegistry inputs;  // no output of this run replaces a file it read
   namespace ex = bivo::experiments::cli;
   ex::add_demo_command(app);
   ex::add_run_command(app);
@@ -52,6 +70,15 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   } catch (const bivo::Error& e) {
     std::cerr << "bivo: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder or file the system refused (read-only, permissions, a file in the way): the
+    // operation, the path and the cause, as any other error.
+    std::cerr << "bivo: error: cannot " << fs_operation(e) << " '" << e.path1().string() << "': " << e.code().message()
+              << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "bivo: error: out of memory (an input larger than this machine holds? see the --max-* limits)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "bivo: internal error: " << e.what() << "\n";

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "odometry/io/json_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -129,23 +130,8 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
 }  // namespace
 
 ConicProblem read_conic_json(const std::string& file) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw Error("conic problem file '" + file + "' is a folder");
-  std::ifstream in(file);
-  if (!in) throw Error("cannot open conic problem file '" + file + "'");
-  json doc;
-  try {
-    // The format nests three levels deep; far deeper input is refused while it is read.
-    constexpr int kMaxDepth = 16;
-    doc = json::parse(in, [&](int depth, json::parse_event_t, json&) {
-      if (depth > kMaxDepth) {
-        throw Error(file + ": values nested more than " + std::to_string(kMaxDepth) + " levels deep");
-      }
-      return true;
-    });
-  } catch (const json::exception& e) {
-    throw Error(file + ": not valid JSON (" + e.what() + ")");
-  }
+  // The format nests three levels deep; far deeper input is refused while it is read.
+  const json doc = odometry::io::read_json_file(file, "conic problem file", 16);
   if (!doc.is_object()) throw Error(file + ": top level must be an object");
   ConicProblem p;
   p.c = vector_field(doc, "c", file, true);

@@ -12,6 +12,7 @@
 #include "experiments/json_object_reader.h"
 #include "experiments/tracker_config.h"
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/json_file.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments {
@@ -164,6 +165,7 @@ json study_to_json(const Study& s) {
 
 Study study_from_json(const json& j, const std::string& where) {
   Reader r(j, where);
+  const json* recorded_hash = r.find("study_hash");
   if (r.string("format") != "bivo-study") throw Error(where + ": format must be \"bivo-study\"");
   if (r.integer("version", 0) != kFormatVersion) {
     throw Error(where + ": study format version " + r.need("version").dump() + " (this bivo reads " +
@@ -246,24 +248,24 @@ Study study_from_json(const json& j, const std::string& where) {
   } catch (const Error& e) {
     throw Error(where + ": " + e.what());
   }
+  // The hash `bivo plan` recorded: an edit by hand (max_frames, a method) would otherwise mix
+  // results of two different studies under one name.
+  if (recorded_hash && (!recorded_hash->is_string() || recorded_hash->get<std::string>() != study_hash(s))) {
+    throw Error(where + ": the study was changed after it was planned (its hash is " + study_hash(s) + ", recorded " +
+                recorded_hash->dump() + "); plan it again with `bivo plan`");
+  }
   return s;
 }
 
 Study read_study(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open study file '" + path + "'");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
-    throw Error(path + ": not valid JSON (" + e.what() + ")");
-  }
-  return study_from_json(j, path);
+  return study_from_json(odometry::io::read_json_file(path, "study file"), path);
 }
 
 void write_study(const std::string& path, const Study& study) {
   check_study(study);
-  const std::string text = study_to_json(study).dump(2) + "\n";
+  json j = study_to_json(study);
+  j["study_hash"] = study_hash(study);
+  const std::string text = j.dump(2) + "\n";
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }
 

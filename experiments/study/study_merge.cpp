@@ -130,7 +130,10 @@ CollectedResults collect_results(const Study& study, const std::string& dir) {
   for (const auto& u : units) ids.insert(u.id);
   std::vector<std::string> paths;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file() && e.path().extension() == ".json") paths.push_back(e.path().string());
+    if (e.path().extension() != ".json") continue;
+    // A result file's name on something else (a folder) would leave its unit silently missing.
+    if (!e.is_regular_file()) throw Error("result file '" + e.path().string() + "' is not a regular file");
+    paths.push_back(e.path().string());
   }
   std::sort(paths.begin(), paths.end());
   CollectedResults out;
@@ -184,7 +187,7 @@ std::string completeness_text(const CollectedResults& r) {
 MergeOutput merge_results(const Study& study, const std::map<std::string, json>& results, const std::string& dir) {
   check_study(study);
   const std::vector<StudyUnit> units = study_units(study);
-  fs::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   MergeOutput out;
   out.units = int(units.size());
   for (const StudyUnit& u : units) {

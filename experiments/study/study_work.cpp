@@ -16,6 +16,7 @@
 #include "experiments/study/study_results.h"
 #include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/json_file.h"
 #include "solvers/error.h"
 
 #ifndef BIVO_VERSION
@@ -101,12 +102,15 @@ std::string unit_failure(const StudyUnit& unit, const json& result) {
 }
 
 UnitResultFile read_unit_result(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read result file '" + path + "'");
+  json j;
+  try {
+    j = odometry::io::read_json_file(path, "result file");
+  } catch (const Error& e) {
+    throw Error("result file '" + path + "' is truncated or corrupt (" + e.what() + ")");
+  }
   UnitResultFile f;
   f.path = path;
   try {
-    const json j = json::parse(in);
     if (j.at("format").get<std::string>() != "bivo-unit-result") throw Error("not a bivo unit result");
     if (j.at("version").get<int>() != 1) throw Error("result format version " + j.at("version").dump());
     f.study_hash = j.at("study_hash").get<std::string>();
@@ -154,17 +158,9 @@ WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::
   // another shard's core and stretch every pair's wall time. Frames load between pairs.
   Study study = planned;
   study.tracker.prefetch_frames = false;
-  fs::create_directories(dir);
+  odometry::io::create_output_directory(dir);
   WorkSummary summary;
   summary.units = int(units.size());
-  // Temporaries of a run killed while writing a result file ("<file>.tmp<hex>"): removed
-  // before their unit is redone.
-  std::map<std::string, std::vector<fs::path>> stale;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    const auto at = name.find(".json.tmp");
-    if (at != std::string::npos) stale[name.substr(0, at + 5)].push_back(e.path());
-  }
   int k = 0;
   for (const StudyUnit& unit : units) {
     ++k;
@@ -185,7 +181,8 @@ WorkSummary work_shard(const Study& planned, const ShardSpec& shard, const std::
         continue;
       }
     }
-    for (const auto& tmp : stale[unit_file_name(unit)]) fs::remove(tmp);
+    // The temporaries of a run killed while writing this file go when it is written again
+    // (odometry/io/own_temporaries.h).
     const auto t0 = std::chrono::steady_clock::now();
     const json result = run_unit(study, unit);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -5,9 +5,11 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <random>
+#include <mutex>
 #include <sstream>
+#include <vector>
 
+#include "odometry/io/own_temporaries.h"
 #include "solvers/error.h"
 
 namespace bivo::odometry::io {
@@ -41,18 +43,106 @@ void write_new_file(const std::string& path, const std::string& target, const st
   };
   std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "wbx"));
   if (!file) {
-    throw Error("cannot write '" + target + "': " + std::strerror(errno) + " (folder missing or not writable?)");
+    throw Error("cannot write '" + target + "': " + std::strerror(errno));
   }
   const bool ok =
       std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size() && std::fflush(file.get()) == 0;
   const bool closed = std::fclose(file.release()) == 0;
   if (!ok || !closed) {
+    const std::string why = std::strerror(errno);
     std::remove(path.c_str());
-    throw Error("cannot write '" + target + "': write failed (disk full?)");
+    throw Error("cannot write '" + target + "': " + why);
   }
 }
 
+// The active OutputJournal's record: paths created, oldest first, and whether each is a folder.
+struct JournalState {
+  std::mutex mutex;
+  bool active = false;
+  std::vector<std::pair<std::string, bool>> created;
+};
+
+JournalState& journal() {
+  static JournalState state;
+  return state;
+}
+
+struct InputState {
+  std::mutex mutex;
+  bool active = false;
+  std::vector<std::string> paths;
+};
+
+InputState& inputs() {
+  static InputState state;
+  return state;
+}
+
+// The input that `path` is (the same file by identity, so a hard link counts), or "".
+std::string input_at(const std::string& path) {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  std::error_code ec;
+  if (!in.active || !fs::exists(fs::symlink_status(path, ec))) return "";
+  for (const std::string& input : in.paths) {
+    if (fs::equivalent(path, input, ec)) return input;
+  }
+  return "";
+}
+
+void record_created(const std::string& path, bool folder) {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (j.active) j.created.emplace_back(path, folder);
+}
+
 }  // namespace
+
+InputRegistry::InputRegistry() {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  in.active = true;
+  in.paths.clear();
+}
+
+InputRegistry::~InputRegistry() {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  in.active = false;
+  in.paths.clear();
+}
+
+void record_input(const std::string& path) {
+  InputState& in = inputs();
+  std::lock_guard<std::mutex> lock(in.mutex);
+  if (in.active) in.paths.push_back(path);
+}
+
+OutputJournal::OutputJournal() {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (j.active) throw Error("internal: two output journals at once");
+  j.active = true;
+  j.created.clear();
+}
+
+OutputJournal::~OutputJournal() {
+  JournalState& j = journal();
+  std::lock_guard<std::mutex> lock(j.mutex);
+  if (!keep_) {
+    std::error_code ec;
+    for (auto it = j.created.rbegin(); it != j.created.rend(); ++it) {
+      // A folder goes only when empty: whatever else appeared in it meanwhile stays.
+      if (it->second) {
+        fs::remove(it->first, ec);
+      } else if (fs::symlink_status(it->first, ec).type() == fs::file_type::regular) {
+        fs::remove(it->first, ec);
+      }
+    }
+  }
+  j.created.clear();
+  j.active = false;
+}
 
 void check_output_target(const std::string& path) {
   if (path.empty()) throw Error("empty output path");
@@ -61,6 +151,9 @@ void check_output_target(const std::string& path) {
   if (fs::exists(status) && status.type() != fs::file_type::regular) {
     throw Error("refusing to write '" + path + "': it is " + kind_of(status.type()) +
                 ", not a regular file, and would be replaced");
+  }
+  if (const std::string input = input_at(path); !input.empty()) {
+    throw Error("refusing to write '" + path + "': it is an input of this run ('" + input + "')");
   }
   fs::path folder = fs::path(path).parent_path();
   if (folder.empty()) folder = ".";
@@ -76,8 +169,20 @@ void create_output_directory(const std::string& dir) {
   if (fs::exists(fs::symlink_status(dir, ec))) {
     throw Error("cannot use '" + dir + "' as output folder: it exists and is not a folder");
   }
-  fs::create_directories(dir, ec);
-  if (ec) throw Error("cannot create output folder '" + dir + "': " + ec.message());
+  // One level at a time, so that the journal knows which folders this run made.
+  std::vector<fs::path> missing;
+  for (fs::path p = fs::path(dir).lexically_normal(); !p.empty() && !fs::exists(fs::symlink_status(p, ec));
+       p = p.parent_path()) {
+    missing.push_back(p);
+    if (p == p.root_path() || p.parent_path() == p) break;
+  }
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (!fs::create_directory(*it, ec) && ec) {
+      throw Error("cannot create output folder '" + dir + "': '" + it->string() + "': " + ec.message());
+    }
+    record_created(it->string(), true);
+  }
+  if (!fs::is_directory(dir, ec)) throw Error("cannot create output folder '" + dir + "'");
 }
 
 StagedOutputs::~StagedOutputs() {
@@ -86,6 +191,7 @@ StagedOutputs::~StagedOutputs() {
 
 void StagedOutputs::add(const std::string& path, const std::function<void(std::ostream&)>& write) {
   check_output_target(path);
+  remove_dead_temporaries(path);
   std::ostringstream content;
   write(content);
   if (!content) throw Error("cannot write '" + path + "': formatting failed");
@@ -110,12 +216,7 @@ void write_file_atomically(const std::string& path, const std::function<void(std
   out.commit();
 }
 
-std::string temporary_path_for(const std::string& path) {
-  std::random_device rd;
-  std::ostringstream s;
-  s << path << ".tmp" << std::hex << rd() << rd();
-  return s.str();
-}
+std::string temporary_path_for(const std::string& path) { return own_temporary_name(path); }
 
 void commit_temporary(const std::string& temporary, const std::string& path) {
   try {
@@ -124,11 +225,14 @@ void commit_temporary(const std::string& temporary, const std::string& path) {
     std::remove(temporary.c_str());
     throw;
   }
+  std::error_code ec;
+  const bool is_new = !fs::exists(fs::symlink_status(path, ec));
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string why = std::strerror(errno);
     std::remove(temporary.c_str());
     throw Error("cannot write '" + path + "': rename from temporary file failed (" + why + ")");
   }
+  if (is_new) record_created(path, false);
 }
 
 }  // namespace bivo::odometry::io

@@ -12,8 +12,21 @@
 namespace bivo::odometry::io {
 
 // Throws bivo::Error naming `path` unless it may receive an output: its folder exists and,
-// when the path exists, it is a regular file (not a symlink, folder, FIFO, device or socket).
+// when the path exists, it is a regular file (not a symlink, folder, FIFO, device or socket)
+// and not a file this run read (see InputRegistry).
 void check_output_target(const std::string& path);
+
+// While one lives (the command line's whole run), the files read as configurations, studies,
+// results and trajectories are recorded, and no output is written over one, under any name
+// (`table --config out/config.json --output out` would replace its own configuration).
+class InputRegistry {
+ public:
+  InputRegistry();
+  InputRegistry(const InputRegistry&) = delete;
+  InputRegistry& operator=(const InputRegistry&) = delete;
+  ~InputRegistry();
+};
+void record_input(const std::string& path);
 
 // Creates the output folder `dir` with its parents; bivo::Error naming it when it exists as
 // something else than a folder or cannot be created.
@@ -44,5 +57,21 @@ void write_file_atomically(const std::string& path, const std::function<void(std
 // exclusively (fopen "wbx"), then rename with commit_temporary(), which re-checks the target.
 std::string temporary_path_for(const std::string& path);
 void commit_temporary(const std::string& temporary, const std::string& path);
+
+// While one lives, every output file and folder that this process creates (not those it
+// replaces) is recorded; unless keep() was called, its destructor removes them again, newest
+// first, so a command that fails half-way through writing (a full disk) leaves nothing
+// partial behind. One at a time; writes from any thread are recorded.
+class OutputJournal {
+ public:
+  OutputJournal();
+  OutputJournal(const OutputJournal&) = delete;
+  OutputJournal& operator=(const OutputJournal&) = delete;
+  ~OutputJournal();
+  void keep() { keep_ = true; }
+
+ private:
+  bool keep_ = false;
+};
 
 }  // namespace bivo::odometry::io

@@ -6,6 +6,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
@@ -185,11 +186,14 @@ void encode(const std::string& path, int width, int height, int colour_type, int
     std::remove(tmp.c_str());
     throw Error("libpng could not allocate a write struct for '" + path + "'");
   }
+  errno = 0;
   if (setjmp(png_jmpbuf(png))) {
+    // libpng says "Write Error"; the system's cause (disk full, file too large) is in errno.
+    const std::string cause = errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : "";
     png_destroy_write_struct(&png, &info);
     file.reset();
     std::remove(tmp.c_str());
-    throw Error("cannot write PNG '" + path + "': " + sink.message);
+    throw Error("cannot write PNG '" + path + "': " + sink.message + cause);
   }
   png_init_io(png, file.get());
   // Fast deflate: rendering sequences is dominated by compression at the default level,
@@ -206,8 +210,9 @@ void encode(const std::string& path, int width, int height, int colour_type, int
   const bool flushed = std::fflush(file.get()) == 0 && !std::ferror(file.get());
   file.reset();
   if (!flushed) {
+    const std::string cause = std::strerror(errno);
     std::remove(tmp.c_str());
-    throw Error("cannot write PNG '" + path + "': write failed (disk full?)");
+    throw Error("cannot write PNG '" + path + "': " + cause);
   }
   commit_temporary(tmp, path);
 }

@@ -55,6 +55,7 @@ Trajectory read_tum_trajectory(const std::string& path) {
     out.push_back(p);
   });
   if (out.empty()) throw Error("trajectory '" + path + "' has no poses");
+  record_input(path);
   return out;
 }
 

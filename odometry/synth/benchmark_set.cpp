@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/staged_folder.h"
 #include "odometry/io/trajectory.h"
 #include "solvers/error.h"
 
@@ -73,7 +74,7 @@ SynthOptions benchmark_options(const BenchmarkSequence& entry, int threads) {
 }
 
 std::vector<std::string> render_benchmark_set(const std::string& trajectories_dir, const std::string& output_dir,
-                                              const std::string& category, int threads) {
+                                              const std::string& category, int threads, bool replace_own_folder) {
   std::vector<BenchmarkSequence> entries;
   if (category.empty())
     entries = benchmark_set();
@@ -88,12 +89,18 @@ std::vector<std::string> render_benchmark_set(const std::string& trajectories_di
     }
     motions.push_back(io::read_tum_trajectory(p.string()));
   }
+  std::vector<SynthOptions> options;
+  for (const BenchmarkSequence& b : entries) {
+    options.push_back(benchmark_options(b, threads));
+    options.back().replace_own_folder = replace_own_folder;
+    io::check_folder_target((fs::path(output_dir) / default_sequence_name(b.category)).string(), replace_own_folder);
+  }
   std::vector<std::string> dirs;
   nlohmann::json sequences = nlohmann::json::array();
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const BenchmarkSequence& b = entries[k];
     // The motion is named by its file name only: the bytes do not depend on where the data lives.
-    dirs.push_back(render_sequence(benchmark_options(b, threads), motions[k], output_dir, b.trajectory));
+    dirs.push_back(render_sequence(options[k], motions[k], output_dir, b.trajectory));
     sequences.push_back({{"category", b.category.name()},
                          {"folder", fs::path(dirs.back()).filename().string()},
                          {"trajectory", b.trajectory},
@@ -115,7 +122,10 @@ std::vector<std::string> render_benchmark_set(const std::string& trajectories_di
 std::string sequence_digest(const std::string& directory) {
   std::vector<fs::path> files;
   for (const auto& e : fs::recursive_directory_iterator(directory)) {
-    if (e.is_regular_file()) files.push_back(fs::relative(e.path(), directory));
+    // The ".bivo-" bookkeeping files (the output marker) are not part of the rendering.
+    if (e.is_regular_file() && e.path().filename().string().rfind(".bivo-", 0) != 0) {
+      files.push_back(fs::relative(e.path(), directory));
+    }
   }
   std::sort(files.begin(), files.end());
   std::uint64_t h = 0xcbf29ce484222325ull;

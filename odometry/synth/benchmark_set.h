@@ -44,9 +44,11 @@ SynthOptions benchmark_options(const BenchmarkSequence& entry, int threads = 0);
 // Renders the entries (all, or only `category` when not empty) from the trajectories in
 // `trajectories_dir` into output_dir/<sequence name>, then writes output_dir/
 // benchmark_set.json. Returns the sequence folders. Throws bivo::Error naming a missing
-// trajectory file before anything is rendered.
+// trajectory file or an existing sequence folder before anything is rendered
+// (`replace_own_folder`: see SynthOptions).
 std::vector<std::string> render_benchmark_set(const std::string& trajectories_dir, const std::string& output_dir,
-                                              const std::string& category = "", int threads = 0);
+                                              const std::string& category = "", int threads = 0,
+                                              bool replace_own_folder = false);
 
 // 64-bit FNV-1a digest (16 hex digits) of a sequence folder: every regular file's relative
 // path and bytes, in sorted path order. Equal digests = byte-identical renderings.

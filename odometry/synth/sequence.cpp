@@ -17,6 +17,7 @@
 #include "odometry/io/input_limits.h"
 #include "odometry/io/png_io.h"
 #include "odometry/io/pose_error.h"
+#include "odometry/io/staged_folder.h"
 #include "odometry/synth/exposure.h"
 #include "solvers/error.h"
 
@@ -251,11 +252,14 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
   }
 
   const fs::path final_dir = fs::path(output_dir) / name;
-  const fs::path tmp_dir = fs::path(output_dir) / (name + ".tmp-render");
-  std::error_code ec;
-  fs::create_directories(output_dir, ec);
-  if (ec) throw Error("synth: cannot create output folder '" + output_dir + "': " + ec.message());
-  fs::remove_all(tmp_dir, ec);
+  io::StagedFolder staged = [&] {
+    try {
+      return io::StagedFolder(final_dir.string(), "bivo synth", o.replace_own_folder);
+    } catch (const Error& e) {
+      throw Error(std::string("synth: ") + e.what());
+    }
+  }();
+  const fs::path tmp_dir = staged.path();
   try {
     fs::create_directories(tmp_dir / "rgb");
     fs::create_directories(tmp_dir / "depth");
@@ -338,14 +342,9 @@ std::string render_sequence(const SynthOptions& o, const io::Trajectory& motion,
     write_text("associations.txt", assoc.str());
     write_text("scene.json", scene_json(o, scene, motion_source, anchor, ref, poses, stats, delays).dump(2) + "\n");
 
-    fs::remove_all(final_dir);
-    fs::rename(tmp_dir, final_dir);
+    staged.commit();
   } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp_dir, ec);
     throw Error("synth: writing '" + final_dir.string() + "' failed: " + e.what());
-  } catch (...) {
-    fs::remove_all(tmp_dir, ec);
-    throw;
   }
   return final_dir.string();
 }

@@ -15,8 +15,10 @@
 //   // (rgb/, depth/, rgb.txt, depth.txt, associations.txt, groundtruth.txt, scene.json)
 //   // whose name makes the intrinsics preset pick freiburg3.
 //
-// The folder is rendered under a temporary name and renamed when complete (an existing
-// folder of the same name is replaced), so a failed run leaves no half-written sequence.
+// The folder is rendered into a temporary folder beside it and renamed when complete
+// (io::StagedFolder), so a failed run leaves no half-written sequence. An existing folder of
+// the same name is never replaced, unless replace_own_folder is set and it is one that a
+// previous rendering wrote (its io::kOutputMarker file).
 #include <cstdint>
 #include <string>
 
@@ -51,6 +53,8 @@ struct SynthOptions {
   // io::intrinsics_for_sequence() pick the rendering camera (contain "freiburg3" and no other
   // preset name such as "freiburg1").
   std::string sequence_name;
+  // Replace an existing output folder when bivo wrote it (never a user's folder or a symlink).
+  bool replace_own_folder = false;
 };
 
 std::string default_sequence_name(const SynthCategory& category);

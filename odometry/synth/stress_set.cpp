@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/staged_folder.h"
 #include "odometry/io/trajectory.h"
 #include "odometry/synth/benchmark_set.h"
 #include "solvers/error.h"
@@ -100,7 +101,7 @@ std::vector<StressSequence> stress_set(int frames) {
 }
 
 std::vector<std::string> render_stress_set(const std::string& trajectories_dir, const std::string& output_dir,
-                                           int frames, const std::string& only, int threads) {
+                                           int frames, const std::string& only, int threads, bool replace_own_folder) {
   std::vector<StressSequence> entries;
   for (const StressSequence& s : stress_set(frames)) {
     if (only.empty() || s.name.find(only) != std::string::npos) entries.push_back(s);
@@ -111,6 +112,10 @@ std::vector<std::string> render_stress_set(const std::string& trajectories_dir, 
       throw Error("stress set: trajectory '" + (fs::path(trajectories_dir) / s.trajectory).string() + "' (for " +
                   s.name + ") not found; pass the folder holding the TUM *-groundtruth.txt files");
     }
+  }
+  for (StressSequence& s : entries) {
+    s.options.replace_own_folder = replace_own_folder;
+    io::check_folder_target((fs::path(output_dir) / s.options.sequence_name).string(), replace_own_folder);
   }
   std::vector<std::string> dirs;
   nlohmann::json sequences = nlohmann::json::array();

@@ -39,7 +39,9 @@ void apply_stress_profile(const std::string& profile, SynthOptions& o);
 
 // Renders the set (or the entries whose name contains `only`) into output_dir and writes
 // output_dir/stress_set.json (definition + digest of every folder). Returns the folders.
+// Existing sequence folders are refused before any rendering (`replace_own_folder`: see SynthOptions).
 std::vector<std::string> render_stress_set(const std::string& trajectories_dir, const std::string& output_dir,
-                                           int frames = kStressFrames, const std::string& only = "", int threads = 0);
+                                           int frames = kStressFrames, const std::string& only = "", int threads = 0,
+                                           bool replace_own_folder = false);
 
 }  // namespace bivo::odometry::synth
