@@ -47,6 +47,7 @@ void add_conic_command(CLI::App& app) {
     else
       problem.problem = read_conic_json(file);
     if (verbose) settings.log = &std::cout;
+    settings.time_phases = verbose;
     settings.polish = !no_polish;
     const solvers::conic::IpmResult r = solvers::conic::solve_conic(problem.problem, settings);
     std::cout << conic_result_text(r, print_solution);

@@ -102,7 +102,20 @@ class Solver {
     best_score_ = std::numeric_limits<double>::infinity();
     stalled_ = 0;
     is_polished_ = false;
+    polish_deferred_ = false;
+    polish_work_ = 0.0;
+    // The work of the set-up outside the KKT system: validation, equilibration (a few
+    // sweeps over the data) and the scaled copies.
+    const double data = static_cast<double>(original.A.nonZeros()) + (original.has_dense_G()
+                                                                          ? static_cast<double>(original.dense_G.size())
+                                                                          : static_cast<double>(original.G.nonZeros()));
+    g_work_ = 2.0 * (gmat_.dense() ? static_cast<double>(m_) * n_ : static_cast<double>(gmat_.sparse().nonZeros()));
+    residual_work_ = 2.0 * g_work_ + 4.0 * static_cast<double>(sp_.A.nonZeros()) + 12.0 * (n_ + p_ + m_);
+    work_ = 8.0 * data + 8.0 * (n_ + p_ + m_);
   }
+  // Operations of the interior-point method so far (set-up, iterations), counted from the
+  // patterns: the polish may spend at most as much (polish_exit).
+  double ipm_work() const { return work_ + kkt_.work(); }
 
   IpmResult& iterate();
   bool initialize();
@@ -133,6 +146,8 @@ class Solver {
   }
   Variables last_good_;
   Tolerances strict_, reduced_;
+  double work_ = 0.0, polish_work_ = 0.0, g_work_ = 0.0, residual_work_ = 0.0;
+  bool polish_deferred_ = false;  // an attempt was skipped or cut short for its cost
   double best_score_ = std::numeric_limits<double>::infinity();
   int stalled_ = 0;
   void log_header() const;
@@ -141,6 +156,7 @@ class Solver {
   // Residuals and stopping measures, timed.
   void residuals(const Variables& v, Residuals& r) {
     PhaseScope phase(clock_, IpmPhase::kResiduals);
+    work_ += residual_work_;
     compute_residuals(sp_, gmat_, *op_, eq_, v, r);
   }
 
@@ -290,10 +306,22 @@ IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) 
 
 IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iterations, bool allow_reduced) {
   if (!st_.polish || !polisher_) return nullptr;  // (a workspace keeps the polisher of earlier solves)
+  // All attempts together cost at most what the interior-point method has cost so far: a
+  // rejected polish (a wrong active set, a system too large to pay off) is never the bulk of
+  // a solve. The smallest attempt factors a dense system of n + p unknowns.
+  const double budget = ipm_work() - polish_work_, smallest = std::pow(static_cast<double>(n_ + p_), 3);
+  if (budget < smallest) {
+    polish_deferred_ = true;
+    return nullptr;
+  }
   {
     PhaseScope phase(clock_, IpmPhase::kPolish);
     if (clock_) ++clock_->timings().polish_attempts;
-    if (!polisher_->polish(v, polished_)) return nullptr;
+    const bool ok = polisher_->polish(v, polished_, budget);
+    polish_work_ += polisher_->last_work();
+    if (polisher_->last_out_of_budget()) polish_deferred_ = true;
+    if (!ok) return nullptr;
+    polish_work_ += residual_work_;
     compute_residuals(sp_, gmat_, *op_, eq_, polished_, polished_r_);
     if (verdict(polished_r_, t) != IpmStatus::kOptimal) return nullptr;
   }
@@ -350,6 +378,10 @@ IpmResult& Solver::iterate() {
       return trouble("non-finite residuals", k);
     }
     const IpmStatus found = verdict(r_, strict_);
+    // Converged while the polish waited for its budget: one more try, from the best iterate.
+    if (found == IpmStatus::kOptimal && polish_deferred_) {
+      if (IpmResult* res = polish_exit(v_, strict_, k, false)) return *res;
+    }
     if (found != IpmStatus::kMaxIterations) return finish(found, v_, k);
     if (r_.primal_residual < st_.polish_from && r_.dual_residual < st_.polish_from &&
         std::min(r_.gap, r_.relative_gap) < st_.polish_from) {
@@ -369,6 +401,7 @@ IpmResult& Solver::iterate() {
       return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
+    work_ += 80.0 * m_ + 20.0 * (n_ + p_);  // the cones' scalings, products and steps
     kkt_.set_full_refinement(best_score_ < st_.full_refinement_from);
 
     {
@@ -448,7 +481,8 @@ namespace {
 
 IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, IpmWorkspace::State& state) {
   IpmTimings timings;
-  IpmClock clock(timings);
+  const IpmClock::Clock::time_point start = IpmClock::Clock::now();
+  IpmClock clock(timings, settings.time_phases);
   bool presolved = false;
   {
     PhaseScope phase(&clock, IpmPhase::kValidation);
@@ -460,7 +494,7 @@ IpmResult& solve_with(const ConicProblem& problem, const IpmSettings& settings, 
   if (presolved) restore_infinite_rows(problem, state.infinite_rows, r);
   clock.enter(IpmPhase::kOther);  // charges the time since the last switch
   r.timings = timings;
-  r.seconds = timings.total_seconds();
+  r.seconds = std::chrono::duration<double>(IpmClock::Clock::now() - start).count();
   return r;
 }
 

@@ -15,6 +15,9 @@ Polisher::Polisher(const ConicProblem& problem, const ConstraintMatrix& G, const
 void Polisher::set_up() {
   if (ready_) return;
   const int nsoc = cones_.soc_count();
+  const double n = sp_.num_variables();
+  g_work_ = 2.0 * (G_.dense() ? static_cast<double>(G_.rows()) * G_.cols() : G_.sparse().nonZeros());
+  charge(nsoc * (g_work_ + 4.0 * n * n) + 2.0 * static_cast<double>(sp_.A.nonZeros()));
   gram_.resize(nsoc);
   head_.resize(nsoc);
   u_.resize(nsoc);
@@ -90,10 +93,13 @@ void Polisher::collect() {
   }
 }
 
-bool Polisher::polish(const Variables& v, Variables& out) {
+bool Polisher::polish(const Variables& v, Variables& out, double budget) {
   newton_steps_ = 0;
+  work_ = 0.0;
+  budget_ = budget;
   tried_.clear();
   if (!(v.tau > 0.0)) return false;
+  charge(8.0 * sp_.num_cone_rows());
   s0_ = v.s / v.tau;
   z0_ = v.z / v.tau;
   classify(s0_, z0_);
@@ -102,6 +108,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   // s and z come in different units (equilibration balances G, not s against z): a second
   // guess compares them relative to their own largest entries, if that guess differs.
   const double s_scale = s0_.lpNorm<Eigen::Infinity>(), z_scale = z0_.lpNorm<Eigen::Infinity>();
+  if (last_out_of_budget()) return false;
   if (s_scale > 0.0 && z_scale > 0.0) {
     classify(s0_, z0_, s_scale, z_scale);
     if ((orthant != orthant_kind_ || soc != soc_kind_) && solve_guess(v, s0_, z0_, out)) return true;
@@ -111,7 +118,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   // wrong guess is refused on the quadratic forms, before any pass over G.
   if (cones_.soc_count() > settings_.max_neighbour_cones) return false;
   for (int k = 0; k < cones_.soc_count(); ++k) {
-    if (cones_.spec().soc[k] < 2) continue;
+    if (cones_.spec().soc[k] < 2 || last_out_of_budget()) continue;
     orthant_kind_ = orthant;
     soc_kind_ = soc;
     soc_kind_[k] = soc[k] == Kind::kBoundary ? Kind::kInactive : Kind::kBoundary;
@@ -119,6 +126,13 @@ bool Polisher::polish(const Variables& v, Variables& out) {
     if (solve_guess(v, s0_, z0_, out)) return true;
   }
   return false;
+}
+
+double Polisher::evaluation_work(bool quadratic) const {
+  const double n = sp_.num_variables(), p = sp_.num_equalities();
+  const double nb = static_cast<double>(boundary_.size()), na = static_cast<double>(apex_rows_.size());
+  const double w = nb * (2.0 * n * n + 6.0 * n) + 2.0 * n * (p + na) + 4.0 * (n + p + nb + na);
+  return quadratic ? w : w + 2.0 * g_work_ + 2.0 * sp_.num_cone_rows();
 }
 
 double Polisher::evaluate(const Eigen::VectorXd& uu, bool quadratic, Eigen::VectorXd& s, Eigen::MatrixXd& a,
@@ -183,6 +197,7 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
   const int n = sp_.num_variables(), p = sp_.num_equalities();
   const int nb = static_cast<int>(boundary_.size()), na = static_cast<int>(apex_rows_.size());
   const int N = n + p + nb + na;
+  if (!charge(evaluation_work(quadratic))) return false;
   merit = evaluate(u, quadratic, s_, a_, F_);
   // Far from the solution, steps must decrease the weighted 2-norm of F (weights fixed at the
   // start: the merit's normalizations), a smooth function Newton's direction descends on.
@@ -205,6 +220,8 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
       M_.block(0, n + p + nb, n, na) = Ga_.transpose();
       M_.block(n + p + nb, 0, na, n) = Ga_;
     }
+    // Full-pivoting LU: about N^3 operations with the pivot search.
+    if (!charge(static_cast<double>(N) * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(M_);
     if (!lu.isInvertible()) return false;
     const Eigen::VectorXd du = lu.solve(F_);
@@ -213,6 +230,7 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
     double t = 1.0, taken = 0.0;
     for (int halving = 0; halving < (near ? 1 : quadratic ? 20 : 5) && !accepted; ++halving, t *= 0.5) {
       trial = u - t * du;
+      if (!charge(evaluation_work(quadratic))) return false;
       const double m_trial = evaluate(trial, quadratic, s_trial_, a_trial_, F_trial_);
       const double n2_trial = F_trial_.cwiseProduct(weight).squaredNorm();
       accepted = std::isfinite(m_trial) &&
@@ -271,6 +289,7 @@ void Polisher::relayout(Eigen::VectorXd& u) {
   w.segment(n + p, nb).setOnes();
   // Multipliers of the new guess: least squares on the dual residual at x (F1 is affine in
   // them), kept positive so the Newton matrix stays regular.
+  charge(evaluation_work(true) + 4.0 * n * nb * nb);
   evaluate(w, true, s_, a_, F_);
   if (nb > 0) {
     const Eigen::VectorXd r0 = F_.head(n) - a_ * w.segment(n + p, nb);
@@ -299,6 +318,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
     u[n + p + b] = z0[o] / s0[o];  // z = lambda J s: z0 = lambda s0
   }
   for (int a = 0; a < na; ++a) u[n + p + nb + a] = z0[apex_rows_[a]];
+  if (!charge(2.0 * na * n + 4.0 * (n + p + nb + na))) return false;
   Ga_.resize(na, n);
   for (int a = 0; a < na; ++a) Ga_.row(a) = G_.dense_rows(apex_rows_[a], 1);
 

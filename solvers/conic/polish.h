@@ -34,6 +34,7 @@
 // The polished point is a candidate only: the IPM accepts it when its own stopping test
 // (residuals in original units) passes, so a wrong guess costs time, never accuracy.
 // Only for problems with few variables and few apex rows (the dense system's size).
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,16 +62,25 @@ class Polisher {
   // Polishes the solution (x, y, z, s) / tau of iterate v; on success `out` holds a point with
   // tau = 1, kappa = 0, s and z in K, s^T z = 0 up to rounding. False when the guess gives a
   // singular system, Newton does not converge, or the result leaves K (wrong sign of a
-  // multiplier: the guess was wrong).
-  bool polish(const Variables& v, Variables& out);
+  // multiplier: the guess was wrong), or its work would exceed `budget` (floating-point
+  // operations, counted as KktSystem::work counts them: the caller bounds the polish by the
+  // interior-point iterations' work).
+  bool polish(const Variables& v, Variables& out, double budget = std::numeric_limits<double>::infinity());
   // The problem's data changed (same objects, new values: a solver workspace's next solve):
   // the per-problem forms are formed again on first use.
   void reset() { ready_ = false; }
   int last_newton_steps() const { return newton_steps_; }  // both stages
   int last_true_steps() const { return true_steps_; }      // the second stage's
+  double last_work() const { return work_; }               // operations of the last call
+  bool last_out_of_budget() const { return work_ > budget_; }
 
  private:
   enum class Kind { kInactive, kBoundary, kApex };
+  bool charge(double operations) {  // false once the budget is spent
+    work_ += operations;
+    return work_ <= budget_;
+  }
+  double evaluation_work(bool quadratic) const;
   void set_up();  // grams, head rows, u_k and eta_k, on first use
   // s / s_scale against z / z_scale.
   void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z, double s_scale = 1.0, double z_scale = 1.0);
@@ -109,6 +119,7 @@ class Polisher {
   std::vector<int> boundary_;             // SOC indices with kind kBoundary
   std::vector<std::vector<Kind>> tried_;  // guesses tried in this polish call
   int newton_steps_ = 0, true_steps_ = 0;
+  double work_ = 0.0, budget_ = 0.0, g_work_ = 0.0;  // g_work_: one product with G
 };
 
 }  // namespace bivo::solvers::conic
