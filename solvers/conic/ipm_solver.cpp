@@ -104,6 +104,7 @@ class Solver {
     is_polished_ = false;
     polish_deferred_ = false;
     polish_work_ = 0.0;
+    polish_wait_ = 0.0;
     // The work of the set-up outside the KKT system: validation, equilibration (a few
     // sweeps over the data) and the scaled copies.
     const double data = static_cast<double>(original.A.nonZeros()) + (original.has_dense_G()
@@ -111,7 +112,7 @@ class Solver {
                                                                           : static_cast<double>(original.G.nonZeros()));
     g_work_ = 2.0 * (gmat_.dense() ? static_cast<double>(m_) * n_ : static_cast<double>(gmat_.sparse().nonZeros()));
     residual_work_ = 2.0 * g_work_ + 4.0 * static_cast<double>(sp_.A.nonZeros()) + 12.0 * (n_ + p_ + m_);
-    work_ = 8.0 * data + 8.0 * (n_ + p_ + m_);
+    work_ = 5000.0 + 8.0 * data + 8.0 * (n_ + p_ + m_);
   }
   // Operations of the interior-point method so far (set-up, iterations), counted from the
   // patterns: the polish may spend at most as much (polish_exit).
@@ -147,6 +148,7 @@ class Solver {
   Variables last_good_;
   Tolerances strict_, reduced_;
   double work_ = 0.0, polish_work_ = 0.0, g_work_ = 0.0, residual_work_ = 0.0;
+  double polish_wait_ = 0.0;      // the budget the next attempt needs
   bool polish_deferred_ = false;  // an attempt was skipped or cut short for its cost
   double best_score_ = std::numeric_limits<double>::infinity();
   int stalled_ = 0;
@@ -300,6 +302,10 @@ IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) 
     res.note = shortfall(m, res.status, strict_, f.primal, f.dual);
   }
   res.kkt_factor_nonzeros = kkt_.factor_nonzeros();
+  if (clock_) {
+    clock_->timings().ipm_operations = ipm_work();
+    clock_->timings().polish_operations = polish_work_;
+  }
   res.polish_newton_steps = is_polished_ ? polisher_->last_newton_steps() : 0;
   return res;
 }
@@ -309,17 +315,23 @@ IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iter
   // All attempts together cost at most what the interior-point method has cost so far: a
   // rejected polish (a wrong active set, a system too large to pay off) is never the bulk of
   // a solve. The smallest attempt factors a dense system of n + p unknowns.
-  const double budget = ipm_work() - polish_work_, smallest = std::pow(static_cast<double>(n_ + p_), 3);
-  if (budget < smallest) {
+  // An attempt cut short for its cost waits until the budget has doubled: attempts cut
+  // one after the other would each spend the budget and finish none.
+  const double budget = ipm_work() - polish_work_;
+  if (budget < polish_wait_) {
     polish_deferred_ = true;
     return nullptr;
   }
   {
     PhaseScope phase(clock_, IpmPhase::kPolish);
     if (clock_) ++clock_->timings().polish_attempts;
-    const bool ok = polisher_->polish(v, polished_, budget);
+    // (less the residuals of the polished point, computed here)
+    const bool ok = polisher_->polish(v, polished_, budget - residual_work_);
     polish_work_ += polisher_->last_work();
-    if (polisher_->last_out_of_budget()) polish_deferred_ = true;
+    if (polisher_->last_out_of_budget()) {
+      polish_deferred_ = true;
+      polish_wait_ = 2.0 * budget;
+    }
     if (!ok) return nullptr;
     polish_work_ += residual_work_;
     compute_residuals(sp_, gmat_, *op_, eq_, polished_, polished_r_);
@@ -401,7 +413,9 @@ IpmResult& Solver::iterate() {
       return trouble("no progress in 3 iterations", k);
     }
     if (k >= st_.max_iterations) return stop_early(IpmStatus::kMaxIterations, "iteration limit", last_good_, k);
-    work_ += 80.0 * m_ + 20.0 * (n_ + p_);  // the cones' scalings, products and steps
+    // The cones' scalings, products and steps, and an iteration's fixed cost (a few
+    // microseconds: calls, loops over the cones, the direction's assembly).
+    work_ += 3000.0 + 80.0 * m_ + 20.0 * (n_ + p_);
     kkt_.set_full_refinement(best_score_ < st_.full_refinement_from);
 
     {

@@ -39,6 +39,10 @@ struct IpmTimings {
   int g_passes = 0;  // products with G or G^T (polish excluded)
   int kkt_factors = 0, kkt_solves = 0, refinement_steps = 0;
   int polish_attempts = 0;
+  int kkt_setups = 0;  // pattern, ordering and symbolic factorization: once per solve
+  // Operations counted from the patterns (KktSystem::work): the interior-point method's
+  // (set-up and iterations) and the polish's, which never exceeds the former.
+  double ipm_operations = 0.0, polish_operations = 0.0;
 
   IpmTimings& operator+=(const IpmTimings& o);  // phases and counters summed
   double& operator[](IpmPhase p) { return seconds[static_cast<int>(p)]; }

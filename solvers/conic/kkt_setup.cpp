@@ -34,6 +34,7 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
   orth_val_.clear();
   head_row_.clear();
   PhaseScope setup_phase(clock_, IpmPhase::kKktSetup);
+  if (clock_) ++clock_->timings().kkt_setups;
   const SparseMatrix& G = Gm.sparse();  // empty when Gm is dense
   if (!A.isCompressed()) throw Error("conic KKT: A must be compressed");
   n_ = std::max(static_cast<int>(A.cols()), Gm.cols());

@@ -72,16 +72,17 @@ class Polisher {
   int last_newton_steps() const { return newton_steps_; }  // both stages
   int last_true_steps() const { return true_steps_; }      // the second stage's
   double last_work() const { return work_; }               // operations of the last call
-  bool last_out_of_budget() const { return work_ > budget_; }
+  bool last_out_of_budget() const { return over_; }
 
  private:
   enum class Kind { kInactive, kBoundary, kApex };
-  bool charge(double operations) {  // false once the budget is spent
+  bool charge(double operations) {  // false, with nothing spent, if it would exceed the budget
+    if (work_ + operations > budget_) return !(over_ = true);
     work_ += operations;
-    return work_ <= budget_;
+    return true;
   }
   double evaluation_work(bool quadratic) const;
-  void set_up();  // grams, head rows, u_k and eta_k, on first use
+  bool set_up();  // grams, head rows, u_k and eta_k, on first use; false: over budget
   // s / s_scale against z / z_scale.
   void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z, double s_scale = 1.0, double z_scale = 1.0);
   void collect();  // boundary_ and apex_rows_ from the kinds
@@ -98,7 +99,7 @@ class Polisher {
   // slack is clearly outside K (-> boundary).
   bool consistent(const Eigen::VectorXd& u);
   // u for the switched guess: x, y and z_apex kept, multipliers by least squares.
-  void relayout(Eigen::VectorXd& u);
+  bool relayout(Eigen::VectorXd& u);  // false: over budget
 
   const ConicProblem& sp_;
   const ConstraintMatrix& G_;
@@ -120,6 +121,7 @@ class Polisher {
   std::vector<std::vector<Kind>> tried_;  // guesses tried in this polish call
   int newton_steps_ = 0, true_steps_ = 0;
   double work_ = 0.0, budget_ = 0.0, g_work_ = 0.0;  // g_work_: one product with G
+  bool over_ = false;
 };
 
 }  // namespace bivo::solvers::conic
