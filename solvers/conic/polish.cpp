@@ -225,16 +225,12 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
       M_.block(0, n + p + nb, n, na) = Ga_.transpose();
       M_.block(n + p + nb, 0, na, n) = Ga_;
     }
-    // LU: 2/3 N^3 operations, vectorized (measured: about N^3 / 2 of the unit the KKT
-    // system's counts run at, with full pivoting; partial pivoting is cheaper).
+    // Full-pivoting LU: 2/3 N^3 operations and the pivot search, vectorized (measured: about
+    // N^3 / 2 of the unit the KKT system's counts run at).
     if (!charge(kStepWork + 0.5 * N * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
-    // Partial pivoting (blocked; full pivoting was a fifth of a small problem's solve), and
-    // a singular guess refused as full pivoting's rank test would: a pivot below
-    // N eps times the largest.
-    lu_.compute(M_);
-    const Eigen::VectorXd pivots = lu_.matrixLU().diagonal().cwiseAbs();
-    if (!(pivots.minCoeff() > N * Eigen::NumTraits<double>::epsilon() * pivots.maxCoeff())) return false;
-    const Eigen::VectorXd du = lu_.solve(F_);
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(M_);
+    if (!lu.isInvertible()) return false;
+    const Eigen::VectorXd du = lu.solve(F_);
     const bool near = merit < 1e-8;
     bool accepted = false;
     double t = 1.0, taken = 0.0;

@@ -38,7 +38,6 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/constraint_matrix.h"
@@ -116,7 +115,6 @@ class Polisher {
   Eigen::VectorXd psi_scale_;                          // per boundary cone: the merit's normalization of psi
   Eigen::VectorXd s_, F_, s_trial_, F_trial_, js_;     // evaluation buffers (current point, trial)
   Eigen::MatrixXd a_, a_trial_, M_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   std::vector<Kind> orthant_kind_, soc_kind_;
   std::vector<int> apex_rows_;            // rows of G whose s is fixed at 0
   std::vector<int> boundary_;             // SOC indices with kind kBoundary
