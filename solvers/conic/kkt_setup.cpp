@@ -89,9 +89,12 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
   }
   compress_pattern();
   Kx_.assign(Ki_.size(), 0.0);
+  // The pattern is symmetric with sorted columns: walking the columns in order, entry (i, j)
+  // is the next unvisited one of column i (a transpose without searches).
   mirror_.resize(Ki_.size());
+  Flag_.assign(Kp_.begin(), Kp_.end() - 1);
   for (int j = 0; j < R_; ++j) {
-    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = slot(j, Ki_[s]);
+    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = Flag_[Ki_[s]]++;
   }
   // Constant values: +-delta and A; then the lists updated per factorization.
   base_.assign(Ki_.size(), 0.0);
