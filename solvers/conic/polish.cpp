@@ -213,24 +213,31 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
   double norm2 = F_.cwiseProduct(weight).squaredNorm();
   Eigen::VectorXd trial(N);
   for (steps = 0; std::isfinite(merit) && merit > 1e-15 && steps < max_steps;) {
-    M_.setZero(N, N);
-    for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
-    if (p > 0) {
-      M_.block(0, n, n, p) = At_;
-      M_.block(n, 0, p, n) = At_.transpose();
+    // Without boundary cones the matrix is the guess's constant one (A, the apex rows of G):
+    // factored once per guess (an LP's polish: one factorization for both stages).
+    if (nb > 0 || !lu_current_) {
+      M_.setZero(N, N);
+      for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
+      if (p > 0) {
+        M_.block(0, n, n, p) = At_;
+        M_.block(n, 0, p, n) = At_.transpose();
+      }
+      M_.block(0, n + p, n, nb) = a_;
+      M_.block(n + p, 0, nb, n) = a_.transpose();
+      if (na > 0) {
+        M_.block(0, n + p + nb, n, na) = Ga_.transpose();
+        M_.block(n + p + nb, 0, na, n) = Ga_;
+      }
+      // Full-pivoting LU: 2/3 N^3 operations and the pivot search, vectorized (measured: about
+      // N^3 / 2 of the unit the KKT system's counts run at).
+      if (!charge(kStepWork + 0.5 * N * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
+      lu_.compute(M_);
+      lu_current_ = nb == 0;
+    } else if (!charge(kStepWork / 4 + 2.0 * N * N)) {
+      return false;
     }
-    M_.block(0, n + p, n, nb) = a_;
-    M_.block(n + p, 0, nb, n) = a_.transpose();
-    if (na > 0) {
-      M_.block(0, n + p + nb, n, na) = Ga_.transpose();
-      M_.block(n + p + nb, 0, na, n) = Ga_;
-    }
-    // Full-pivoting LU: 2/3 N^3 operations and the pivot search, vectorized (measured: about
-    // N^3 / 2 of the unit the KKT system's counts run at).
-    if (!charge(kStepWork + 0.5 * N * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(M_);
-    if (!lu.isInvertible()) return false;
-    const Eigen::VectorXd du = lu.solve(F_);
+    if (!lu_.isInvertible()) return false;
+    const Eigen::VectorXd du = lu_.solve(F_);
     const bool near = merit < 1e-8;
     bool accepted = false;
     double t = 1.0, taken = 0.0;
@@ -310,6 +317,7 @@ bool Polisher::relayout(Eigen::VectorXd& u) {
 
 bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out) {
   newton_steps_ = true_steps_ = 0;
+  lu_current_ = false;
   const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   int nb = static_cast<int>(boundary_.size());
   const int na = static_cast<int>(apex_rows_.size());
