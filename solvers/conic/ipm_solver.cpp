@@ -12,28 +12,13 @@
 #include "solvers/conic/certificate.h"
 #include "solvers/conic/cones.h"
 #include "solvers/conic/infinite_rows.h"
+#include "solvers/conic/ipm_log.h"
 #include "solvers/conic/kkt_system.h"
 #include "solvers/conic/polish.h"
 #include "solvers/conic/residuals.h"
 #include "solvers/conic/variables.h"
 
 namespace bivo::solvers::conic {
-
-std::string to_string(IpmStatus status) {
-  switch (status) {
-    case IpmStatus::kOptimal:
-      return "optimal";
-    case IpmStatus::kPrimalInfeasible:
-      return "primal infeasible";
-    case IpmStatus::kDualInfeasible:
-      return "dual infeasible";
-    case IpmStatus::kMaxIterations:
-      return "max iterations";
-    case IpmStatus::kNumericalTrouble:
-      return "numerical trouble";
-  }
-  return "unknown";
-}
 
 namespace {
 
@@ -152,8 +137,12 @@ class Solver {
   bool polish_deferred_ = false;  // an attempt was skipped or cut short for its cost
   double best_score_ = std::numeric_limits<double>::infinity();
   int stalled_ = 0;
-  void log_header() const;
-  void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const;
+  void log_header() const {
+    if (st_.log) log_ipm_header(*st_.log, n_, p_, m_, sp_.cones, kkt_.reduced_size(), kkt_.factor_nonzeros());
+  }
+  void log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const {
+    if (st_.log) log_ipm_iteration(*st_.log, k, r, v_.kappa / v_.tau, mu, step, sigma, kkt_.last_refinement_steps());
+  }
 
   // Residuals and stopping measures, timed.
   void residuals(const Variables& v, Residuals& r) {
@@ -354,26 +343,6 @@ IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iter
   return nullptr;
 }
 
-void Solver::log_header() const {
-  if (!st_.log) return;
-  char buf[256];
-  std::snprintf(buf, sizeof buf,
-                "conic IPM: n = %d, p = %d, m = %d (orthant %d, %zu SOC), reduced KKT %d x %d, L nnz %ld\n", n_, p_, m_,
-                sp_.cones.nonnegative, sp_.cones.soc.size(), kkt_.reduced_size(), kkt_.reduced_size(),
-                kkt_.factor_nonzeros());
-  *st_.log << buf;
-  *st_.log << "iter      pcost        dcost       gap     pres     dres     k/t       mu     step   sigma  ref\n";
-}
-
-void Solver::log_iteration(int k, const Residuals& r, double mu, double step, double sigma) const {
-  if (!st_.log) return;
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%3d %+.5e %+.5e %8.1e %8.1e %8.1e %8.1e %8.1e %7.4f %7.4f %3d\n", k,
-                r.primal_objective, r.dual_objective, r.gap, r.primal_residual, r.dual_residual, v_.kappa / v_.tau, mu,
-                step, sigma, kkt_.last_refinement_steps());
-  *st_.log << buf;
-}
-
 IpmResult& Solver::iterate() {
   log_header();
   if (!initialize()) {
@@ -474,12 +443,6 @@ IpmResult& Solver::iterate() {
 }
 
 }  // namespace
-
-std::string status_text(const IpmResult& r) {
-  std::string s = to_string(r.status);
-  if (r.reduced_accuracy) s += " (reduced accuracy" + (r.note.empty() ? std::string() : ": " + r.note) + ")";
-  return s;
-}
 
 struct IpmWorkspace::State {
   Solver solver;
