@@ -52,6 +52,7 @@ void add_conic_command(CLI::App& app) {
       else
         problem.problem = read_conic_json(file);
       if (verbose) settings.log = &std::cout;
+      settings.time_phases = verbose;
       settings.polish = !no_polish;
       r = solvers::conic::solve_conic(problem.problem, settings);
     } catch (const std::bad_alloc&) {

@@ -59,6 +59,9 @@ struct IpmSettings {
   // iterate's residuals and gap are below this; before, refinement runs on the reduced system.
   double full_refinement_from = 1e-4;
   std::ostream* log = nullptr;  // per-iteration log when set
+  // Seconds by phase in IpmResult::timings (the counters are kept either way); off, only
+  // the total is timed.
+  bool time_phases = false;
 };
 
 struct IpmResult {
@@ -82,7 +85,7 @@ struct IpmResult {
   int polish_newton_steps = 0;  // ... after this many Newton steps
   int iterations = 0;
   double seconds = 0.0;
-  IpmTimings timings;  // seconds by phase (they sum to `seconds`) and pass counts
+  IpmTimings timings;  // seconds by phase (with time_phases: they sum to `seconds`) and counts
   long kkt_factor_nonzeros = 0;
 };
 

@@ -53,6 +53,9 @@ IpmTimings& IpmTimings::operator+=(const IpmTimings& o) {
   kkt_solves += o.kkt_solves;
   refinement_steps += o.refinement_steps;
   polish_attempts += o.polish_attempts;
+  kkt_setups += o.kkt_setups;
+  ipm_operations += o.ipm_operations;
+  polish_operations += o.polish_operations;
   return *this;
 }
 
@@ -99,7 +102,8 @@ std::string IpmTimings::text(int iterations) const {
   for (int p = static_cast<int>(IpmPhase::kResiduals); p <= static_cast<int>(IpmPhase::kOther); ++p) {
     if (p != static_cast<int>(IpmPhase::kPolish)) line(to_string(static_cast<IpmPhase>(p)), seconds[p]);
   }
-  std::snprintf(buf, sizeof buf, " polish (%d attempts):\n", polish_attempts);
+  std::snprintf(buf, sizeof buf, " polish (%d attempts, %.3g operations against the method's %.3g):\n", polish_attempts,
+                polish_operations, ipm_operations);
   out += buf;
   line("polish", (*this)[IpmPhase::kPolish]);
   std::snprintf(buf, sizeof buf, " counts: %d G passes, %d KKT factorizations, %d KKT solves, %d refinement steps\n",

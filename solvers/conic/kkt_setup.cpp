@@ -2,6 +2,7 @@
 // its values, the fill-reducing ordering and the symbolic factorization, once per solve, in
 // the buffers of the last set-up.
 #include <algorithm>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -33,6 +34,7 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
   orth_val_.clear();
   head_row_.clear();
   PhaseScope setup_phase(clock_, IpmPhase::kKktSetup);
+  if (clock_) ++clock_->timings().kkt_setups;
   const SparseMatrix& G = Gm.sparse();  // empty when Gm is dense
   if (!A.isCompressed()) throw Error("conic KKT: A must be compressed");
   n_ = std::max(static_cast<int>(A.cols()), Gm.cols());
@@ -57,7 +59,8 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
       if (gram[k].coeff(j, j) > 0.0) couple[k].push_back(j);
     }
   }
-  std::vector<std::pair<int, int>> entries;  // (col, row), both triangles
+  std::vector<std::pair<int, int>>& entries = entries_;  // (col, row), both triangles, with repeats
+  entries.clear();
   auto add = [&](int r, int c) {
     entries.emplace_back(c, r);
     if (r != c) entries.emplace_back(r, c);
@@ -84,19 +87,14 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
       }
     }
   }
-  std::sort(entries.begin(), entries.end());
-  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
-  Kp_.assign(R_ + 1, 0);
-  Ki_.resize(entries.size());
-  for (std::size_t e = 0; e < entries.size(); ++e) {
-    ++Kp_[entries[e].first + 1];
-    Ki_[e] = entries[e].second;
-  }
-  for (int j = 0; j < R_; ++j) Kp_[j + 1] += Kp_[j];
+  compress_pattern();
   Kx_.assign(Ki_.size(), 0.0);
+  // The pattern is symmetric with sorted columns: walking the columns in order, entry (i, j)
+  // is the next unvisited one of column i (a transpose without searches).
   mirror_.resize(Ki_.size());
+  Flag_.assign(Kp_.begin(), Kp_.end() - 1);
   for (int j = 0; j < R_; ++j) {
-    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = slot(j, Ki_[s]);
+    for (int s = Kp_[j]; s < Kp_[j + 1]; ++s) mirror_[s] = Flag_[Ki_[s]]++;
   }
   // Constant values: +-delta and A; then the lists updated per factorization.
   base_.assign(Ki_.size(), 0.0);
@@ -182,12 +180,46 @@ void KktSystem::setup(const SparseMatrix& A, const ConstraintMatrix& Gm, const C
   Pattern_.assign(R_, 0);
   ldl_symbolic(R_, Kp_.data(), Ki_.data(), Lp_.data(), Parent_.data(), Lnz_.data(), Flag_.data(), P_.data(),
                Pinv_.data());
+  factor_work_ = 0.0;
+  for (int j = 0; j < R_; ++j) factor_work_ += 2.0 * static_cast<double>(Lnz_[j]) * Lnz_[j] + 2.0;
+  g_work_ = 2.0 * (Gm.dense() ? static_cast<double>(m_) * n_ : static_cast<double>(G.nonZeros()));
+  // The set-up itself: the pattern (a sort of its entries) and the ordering.
+  work_ = 8.0 * static_cast<double>(Ki_.size()) * std::log2(2.0 + static_cast<double>(Ki_.size())) + g_work_;
   Li_.assign(std::max(Lp_[R_], 1), 0);
   Lx_.assign(std::max(Lp_[R_], 1), 0.0);
   D_.assign(R_, 0.0);
   Y_.assign(R_, 0.0);
   red_.resize(R_);
   red_perm_.resize(R_);
+}
+
+// entries_ to the CSC pattern (Kp_, Ki_), rows sorted and unique per column: a bucket pass
+// by column, repeats dropped with a marker, then a sort of each (short) column; a sort of
+// all the pairs was a sixth of a small problem's solve.
+void KktSystem::compress_pattern() {
+  Kp_.assign(R_ + 1, 0);
+  for (const auto& e : entries_) ++Kp_[e.first + 1];
+  for (int j = 0; j < R_; ++j) Kp_[j + 1] += Kp_[j];
+  Flag_.assign(R_, 0);  // next free position per column (Flag_ is the symbolic step's scratch)
+  for (int j = 0; j < R_; ++j) Flag_[j] = Kp_[j];
+  Pattern_.resize(entries_.size());
+  for (const auto& e : entries_) Pattern_[Flag_[e.first]++] = e.second;
+  Lnz_.assign(R_, -1);  // marker: the last column each row was seen in
+  Ki_.clear();
+  int begin = 0;
+  for (int j = 0; j < R_; ++j) {
+    const int first = static_cast<int>(Ki_.size());
+    for (int q = begin; q < Kp_[j + 1]; ++q) {
+      const int r = Pattern_[q];
+      if (Lnz_[r] == j) continue;
+      Lnz_[r] = j;
+      Ki_.push_back(r);
+    }
+    std::sort(Ki_.begin() + first, Ki_.end());
+    begin = Kp_[j + 1];
+    Kp_[j] = first;
+  }
+  Kp_[R_] = static_cast<int>(Ki_.size());
 }
 
 int KktSystem::slot(int row, int col) const {

@@ -38,6 +38,7 @@ double KktSystem::z_pivot(double d) {
 bool KktSystem::factor(const NtScaling& w) {
   PhaseScope phase(clock_, IpmPhase::kKktFactor);
   if (clock_) ++clock_->timings().kkt_factors;
+  work_ += factor_work_ + 3.0 * static_cast<double>(Kx_.size()) + g_work_ + 4.0 * m_;
   w_ = w;
   dynamic_pivots_ = 0;
   z_regularized_ = false;
@@ -176,7 +177,9 @@ void KktSystem::reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red) {
   const int pk0 = n_ + p_;
   red.resize(R_);
   // A zero z part (the initial dual start's right-hand side) needs no pass over G.
+  work_ += R_ + 2.0 * m_;
   if (m_ > 0 && !r.tail(m_).isZero(0.0)) {
+    work_ += g_work_;
     tz_ = r.tail(m_).cwiseProduct(Eigen::Map<const Eigen::VectorXd>(inv_d_.data(), m_));
     G_->multiply_transpose(tz_, red.head(n_));
     red.head(n_) += r.head(n_);
@@ -194,6 +197,7 @@ void KktSystem::reduced_rhs(const Eigen::VectorXd& r, Eigen::VectorXd& red) {
 }
 
 void KktSystem::ldl_solve(Eigen::VectorXd& red) {
+  work_ += 4.0 * factor_nonzeros() + 3.0 * R_;
   ldl_perm(R_, red_perm_.data(), red.data(), P_.data());
   ldl_lsolve(R_, red_perm_.data(), Lp_.data(), Li_.data(), Lx_.data());
   ldl_dsolve(R_, red_perm_.data(), D_.data());
@@ -206,6 +210,7 @@ void KktSystem::back_substitute(const Eigen::VectorXd& r, const Eigen::VectorXd&
   sol.resize(n_ + p_ + m_);
   sol.head(n_ + p_) = red.head(n_ + p_);
   if (m_ == 0) return;
+  work_ += g_work_ + 4.0 * m_;
   auto dz = sol.tail(m_);
   G_->multiply(red.head(n_), dz);
   dz -= r.tail(m_);
@@ -231,6 +236,7 @@ void KktSystem::reduced_solve(const Eigen::VectorXd& r, Eigen::VectorXd& sol) {
 // on y), i.e. the exact Schur complement of the unexpanded system's z block.
 void KktSystem::reduced_residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   PhaseScope phase(clock_, IpmPhase::kRefinement);
+  work_ += 2.0 * static_cast<double>(Kx_.size()) + 4.0 * R_;
   out = rhs;
   for (int j = 0; j < R_; ++j) {
     const double vj = v[j];
@@ -245,6 +251,7 @@ void KktSystem::reduced_residual(const Eigen::VectorXd& rhs, const Eigen::Vector
 void KktSystem::residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out) {
   PhaseScope phase(clock_, IpmPhase::kRefinement);
   const int nr = n_ + p_ + m_;
+  work_ += 2.0 * g_work_ + 4.0 * static_cast<double>(A_->nonZeros()) + 6.0 * m_ + nr;
   out.resize(nr);
   const double* vz = v.data() + n_ + p_;
   double* oz = out.data() + n_ + p_;

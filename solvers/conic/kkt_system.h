@@ -22,6 +22,7 @@
 // none). Solutions are polished by iterative refinement on the reduced system without its
 // regularization (exact: z is eliminated in closed form), or, when a z pivot itself had
 // to be regularized, against the unregularized, unexpanded K.
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -69,6 +70,10 @@ class KktSystem {
   long factor_nonzeros() const { return static_cast<long>(Lp_.empty() ? 0 : Lp_.back()); }
   int last_refinement_steps() const { return last_refine_; }
   int last_dynamic_pivots() const { return dynamic_pivots_; }
+  // Floating-point operations since set-up, counted from the patterns (factorizations,
+  // triangular solves, products with G, K and A): a measure of the iterations' work that
+  // does not depend on the machine's load, against which the polish is budgeted.
+  double work() const { return work_; }
 
  private:
   void residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& v, Eigen::VectorXd& out);  // rhs - K v
@@ -82,6 +87,7 @@ class KktSystem {
   bool numeric_with_dynamic_regularization();
   double z_pivot(double d);          // d, or dynamic_regularization when d is below the threshold
   int slot(int row, int col) const;  // position of (row, col) in the reduced CSC
+  void compress_pattern();           // entries_ to Kp_, Ki_
 
   const SparseMatrix* A_ = nullptr;
   const ConstraintMatrix* G_ = nullptr;
@@ -94,7 +100,8 @@ class KktSystem {
 
   // Reduced matrix, full symmetric CSC; values rebuilt per factorization as
   // base + sum_k soc_val / beta_k^2 + sum_i orth_val / w_i^2 + the p, q couplings.
-  std::vector<int> Kp_, Ki_, mirror_;  // mirror_[s]: slot of the transposed entry
+  std::vector<int> Kp_, Ki_, mirror_;         // mirror_[s]: slot of the transposed entry
+  std::vector<std::pair<int, int>> entries_;  // the set-up's (column, row) pairs
   std::vector<double> Kx_, base_;
   std::vector<int> soc_slot_, soc_cone_;  // G_k^T G_k, upper triangle
   std::vector<double> soc_val_;
@@ -119,6 +126,9 @@ class KktSystem {
   Eigen::VectorXd red_, red_perm_, red_rhs_, red_res_, red_best_, tz_, res_, cand_, new_res_;
   int last_refine_ = 0;
   int dynamic_pivots_ = 0;
+  double work_ = 0.0;
+  double factor_work_ = 0.0;  // one numeric factorization: 2 sum_j |L(:, j)|^2, set by the set-up
+  double g_work_ = 0.0;       // one product with G or G^T
   bool z_regularized_ = false;
   bool full_refinement_ = true;  // a z pivot got the dynamic regularization this factorization
 };

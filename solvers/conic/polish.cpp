@@ -8,13 +8,20 @@
 
 namespace bivo::solvers::conic {
 
+// Fixed costs in operations (the work counts' unit, about a nanosecond each on small
+// systems): a call (its vectors, the classification) and a Newton step (the LU's set-up).
+constexpr double kCallWork = 2000.0, kStepWork = 800.0;
+
 Polisher::Polisher(const ConicProblem& problem, const ConstraintMatrix& G, const ConeProduct& cones,
                    PolishSettings settings)
     : sp_(problem), G_(G), cones_(cones), settings_(settings) {}
 
-void Polisher::set_up() {
-  if (ready_) return;
+bool Polisher::set_up() {
+  if (ready_) return true;
   const int nsoc = cones_.soc_count();
+  const double n = sp_.num_variables();
+  g_work_ = 2.0 * (G_.dense() ? static_cast<double>(G_.rows()) * G_.cols() : G_.sparse().nonZeros());
+  if (!charge(nsoc * (g_work_ + 4.0 * n * n) + 2.0 * static_cast<double>(sp_.A.nonZeros()))) return false;
   gram_.resize(nsoc);
   head_.resize(nsoc);
   u_.resize(nsoc);
@@ -37,6 +44,7 @@ void Polisher::set_up() {
   norm_b_ = 1.0 + sp_.b.lpNorm<Eigen::Infinity>();
   norm_h_ = 1.0 + sp_.h.lpNorm<Eigen::Infinity>();
   ready_ = true;
+  return true;
 }
 
 // The larger member of each complementary eigen-pair survives (see polish.h).
@@ -90,10 +98,13 @@ void Polisher::collect() {
   }
 }
 
-bool Polisher::polish(const Variables& v, Variables& out) {
+bool Polisher::polish(const Variables& v, Variables& out, double budget) {
   newton_steps_ = 0;
+  work_ = 0.0;
+  budget_ = budget;
+  over_ = false;
   tried_.clear();
-  if (!(v.tau > 0.0)) return false;
+  if (!(v.tau > 0.0) || !charge(kCallWork + 8.0 * sp_.num_cone_rows())) return false;
   s0_ = v.s / v.tau;
   z0_ = v.z / v.tau;
   classify(s0_, z0_);
@@ -102,6 +113,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   // s and z come in different units (equilibration balances G, not s against z): a second
   // guess compares them relative to their own largest entries, if that guess differs.
   const double s_scale = s0_.lpNorm<Eigen::Infinity>(), z_scale = z0_.lpNorm<Eigen::Infinity>();
+  if (last_out_of_budget()) return false;
   if (s_scale > 0.0 && z_scale > 0.0) {
     classify(s0_, z0_, s_scale, z_scale);
     if ((orthant != orthant_kind_ || soc != soc_kind_) && solve_guess(v, s0_, z0_, out)) return true;
@@ -111,7 +123,7 @@ bool Polisher::polish(const Variables& v, Variables& out) {
   // wrong guess is refused on the quadratic forms, before any pass over G.
   if (cones_.soc_count() > settings_.max_neighbour_cones) return false;
   for (int k = 0; k < cones_.soc_count(); ++k) {
-    if (cones_.spec().soc[k] < 2) continue;
+    if (cones_.spec().soc[k] < 2 || last_out_of_budget()) continue;
     orthant_kind_ = orthant;
     soc_kind_ = soc;
     soc_kind_[k] = soc[k] == Kind::kBoundary ? Kind::kInactive : Kind::kBoundary;
@@ -119,6 +131,13 @@ bool Polisher::polish(const Variables& v, Variables& out) {
     if (solve_guess(v, s0_, z0_, out)) return true;
   }
   return false;
+}
+
+double Polisher::evaluation_work(bool quadratic) const {
+  const double n = sp_.num_variables(), p = sp_.num_equalities();
+  const double nb = static_cast<double>(boundary_.size()), na = static_cast<double>(apex_rows_.size());
+  const double w = kStepWork / 4 + nb * (2.0 * n * n + 6.0 * n) + 2.0 * n * (p + na) + 4.0 * (n + p + nb + na);
+  return quadratic ? w : w + 2.0 * g_work_ + 2.0 * sp_.num_cone_rows();
 }
 
 double Polisher::evaluate(const Eigen::VectorXd& uu, bool quadratic, Eigen::VectorXd& s, Eigen::MatrixXd& a,
@@ -183,6 +202,7 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
   const int n = sp_.num_variables(), p = sp_.num_equalities();
   const int nb = static_cast<int>(boundary_.size()), na = static_cast<int>(apex_rows_.size());
   const int N = n + p + nb + na;
+  if (!charge(evaluation_work(quadratic))) return false;
   merit = evaluate(u, quadratic, s_, a_, F_);
   // Far from the solution, steps must decrease the weighted 2-norm of F (weights fixed at the
   // start: the merit's normalizations), a smooth function Newton's direction descends on.
@@ -193,26 +213,37 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
   double norm2 = F_.cwiseProduct(weight).squaredNorm();
   Eigen::VectorXd trial(N);
   for (steps = 0; std::isfinite(merit) && merit > 1e-15 && steps < max_steps;) {
-    M_.setZero(N, N);
-    for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
-    if (p > 0) {
-      M_.block(0, n, n, p) = At_;
-      M_.block(n, 0, p, n) = At_.transpose();
+    // Without boundary cones the matrix is the guess's constant one (A, the apex rows of G):
+    // factored once per guess (an LP's polish: one factorization for both stages).
+    if (nb > 0 || !lu_current_) {
+      M_.setZero(N, N);
+      for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
+      if (p > 0) {
+        M_.block(0, n, n, p) = At_;
+        M_.block(n, 0, p, n) = At_.transpose();
+      }
+      M_.block(0, n + p, n, nb) = a_;
+      M_.block(n + p, 0, nb, n) = a_.transpose();
+      if (na > 0) {
+        M_.block(0, n + p + nb, n, na) = Ga_.transpose();
+        M_.block(n + p + nb, 0, na, n) = Ga_;
+      }
+      // Full-pivoting LU: 2/3 N^3 operations and the pivot search, vectorized (measured: about
+      // N^3 / 2 of the unit the KKT system's counts run at).
+      if (!charge(kStepWork + 0.5 * N * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
+      lu_.compute(M_);
+      lu_current_ = nb == 0;
+    } else if (!charge(kStepWork / 4 + 2.0 * N * N)) {
+      return false;
     }
-    M_.block(0, n + p, n, nb) = a_;
-    M_.block(n + p, 0, nb, n) = a_.transpose();
-    if (na > 0) {
-      M_.block(0, n + p + nb, n, na) = Ga_.transpose();
-      M_.block(n + p + nb, 0, na, n) = Ga_;
-    }
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(M_);
-    if (!lu.isInvertible()) return false;
-    const Eigen::VectorXd du = lu.solve(F_);
+    if (!lu_.isInvertible()) return false;
+    const Eigen::VectorXd du = lu_.solve(F_);
     const bool near = merit < 1e-8;
     bool accepted = false;
     double t = 1.0, taken = 0.0;
     for (int halving = 0; halving < (near ? 1 : quadratic ? 20 : 5) && !accepted; ++halving, t *= 0.5) {
       trial = u - t * du;
+      if (!charge(evaluation_work(quadratic))) return false;
       const double m_trial = evaluate(trial, quadratic, s_trial_, a_trial_, F_trial_);
       const double n2_trial = F_trial_.cwiseProduct(weight).squaredNorm();
       accepted = std::isfinite(m_trial) &&
@@ -261,7 +292,7 @@ bool Polisher::consistent(const Eigen::VectorXd& u) {
   return ok;
 }
 
-void Polisher::relayout(Eigen::VectorXd& u) {
+bool Polisher::relayout(Eigen::VectorXd& u) {
   const int n = sp_.num_variables(), p = sp_.num_equalities(), na = static_cast<int>(apex_rows_.size());
   collect();
   const int nb = static_cast<int>(boundary_.size());
@@ -271,6 +302,7 @@ void Polisher::relayout(Eigen::VectorXd& u) {
   w.segment(n + p, nb).setOnes();
   // Multipliers of the new guess: least squares on the dual residual at x (F1 is affine in
   // them), kept positive so the Newton matrix stays regular.
+  if (!charge(evaluation_work(true) + 4.0 * n * nb * nb)) return false;
   evaluate(w, true, s_, a_, F_);
   if (nb > 0) {
     const Eigen::VectorXd r0 = F_.head(n) - a_ * w.segment(n + p, nb);
@@ -280,15 +312,17 @@ void Polisher::relayout(Eigen::VectorXd& u) {
     w.segment(n + p, nb) = lambda;
   }
   u.swap(w);
+  return true;
 }
 
 bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const Eigen::VectorXd& z0, Variables& out) {
   newton_steps_ = true_steps_ = 0;
+  lu_current_ = false;
   const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   int nb = static_cast<int>(boundary_.size());
   const int na = static_cast<int>(apex_rows_.size());
   if (n + p + nb + na > settings_.max_system_size) return false;
-  set_up();
+  if (!set_up()) return false;
 
   // Unknowns u = (x, y, lambda, z_apex), started from the iterate.
   Eigen::VectorXd u(n + p + nb + na);
@@ -299,6 +333,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
     u[n + p + b] = z0[o] / s0[o];  // z = lambda J s: z0 = lambda s0
   }
   for (int a = 0; a < na; ++a) u[n + p + nb + a] = z0[apex_rows_[a]];
+  if (!charge(2.0 * na * n + 4.0 * (n + p + nb + na))) return false;
   Ga_.resize(na, n);
   for (int a = 0; a < na; ++a) Ga_.row(a) = G_.dense_rows(apex_rows_[a], 1);
 
@@ -318,7 +353,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
     if (!(merit < 1e-8)) return false;  // not converged: no verdict on this guess
     if (consistent(u)) break;
     if (round >= settings_.max_switches) return false;
-    relayout(u);
+    if (!relayout(u)) return false;
     nb = static_cast<int>(boundary_.size());
     if (n + p + nb + na > settings_.max_system_size) return false;
   }

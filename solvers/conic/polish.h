@@ -34,9 +34,11 @@
 // The polished point is a candidate only: the IPM accepts it when its own stopping test
 // (residuals in original units) passes, so a wrong guess costs time, never accuracy.
 // Only for problems with few variables and few apex rows (the dense system's size).
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "solvers/conic/cones.h"
 #include "solvers/conic/constraint_matrix.h"
@@ -61,17 +63,27 @@ class Polisher {
   // Polishes the solution (x, y, z, s) / tau of iterate v; on success `out` holds a point with
   // tau = 1, kappa = 0, s and z in K, s^T z = 0 up to rounding. False when the guess gives a
   // singular system, Newton does not converge, or the result leaves K (wrong sign of a
-  // multiplier: the guess was wrong).
-  bool polish(const Variables& v, Variables& out);
+  // multiplier: the guess was wrong), or its work would exceed `budget` (floating-point
+  // operations, counted as KktSystem::work counts them: the caller bounds the polish by the
+  // interior-point iterations' work).
+  bool polish(const Variables& v, Variables& out, double budget = std::numeric_limits<double>::infinity());
   // The problem's data changed (same objects, new values: a solver workspace's next solve):
   // the per-problem forms are formed again on first use.
   void reset() { ready_ = false; }
   int last_newton_steps() const { return newton_steps_; }  // both stages
   int last_true_steps() const { return true_steps_; }      // the second stage's
+  double last_work() const { return work_; }               // operations of the last call
+  bool last_out_of_budget() const { return over_; }
 
  private:
   enum class Kind { kInactive, kBoundary, kApex };
-  void set_up();  // grams, head rows, u_k and eta_k, on first use
+  bool charge(double operations) {  // false, with nothing spent, if it would exceed the budget
+    if (work_ + operations > budget_) return !(over_ = true);
+    work_ += operations;
+    return true;
+  }
+  double evaluation_work(bool quadratic) const;
+  bool set_up();  // grams, head rows, u_k and eta_k, on first use; false: over budget
   // s / s_scale against z / z_scale.
   void classify(const Eigen::VectorXd& s, const Eigen::VectorXd& z, double s_scale = 1.0, double z_scale = 1.0);
   void collect();  // boundary_ and apex_rows_ from the kinds
@@ -88,7 +100,7 @@ class Polisher {
   // slack is clearly outside K (-> boundary).
   bool consistent(const Eigen::VectorXd& u);
   // u for the switched guess: x, y and z_apex kept, multipliers by least squares.
-  void relayout(Eigen::VectorXd& u);
+  bool relayout(Eigen::VectorXd& u);  // false: over budget
 
   const ConicProblem& sp_;
   const ConstraintMatrix& G_;
@@ -104,11 +116,15 @@ class Polisher {
   Eigen::VectorXd psi_scale_;                          // per boundary cone: the merit's normalization of psi
   Eigen::VectorXd s_, F_, s_trial_, F_trial_, js_;     // evaluation buffers (current point, trial)
   Eigen::MatrixXd a_, a_trial_, M_;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu_;  // of M_
+  bool lu_current_ = false;               // lu_ is the current guess's (no boundary cones)
   std::vector<Kind> orthant_kind_, soc_kind_;
   std::vector<int> apex_rows_;            // rows of G whose s is fixed at 0
   std::vector<int> boundary_;             // SOC indices with kind kBoundary
   std::vector<std::vector<Kind>> tried_;  // guesses tried in this polish call
   int newton_steps_ = 0, true_steps_ = 0;
+  double work_ = 0.0, budget_ = 0.0, g_work_ = 0.0;  // g_work_: one product with G
+  bool over_ = false;
 };
 
 }  // namespace bivo::solvers::conic
