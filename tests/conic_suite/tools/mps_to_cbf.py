@@ -4,7 +4,8 @@
     tests/conic_suite/tools/mps_to_cbf.py IN.mps OUT.cbf [--header "line" ...]
 
 Sections NAME, ROWS, COLUMNS, RHS, RANGES, BOUNDS, ENDATA (names without blanks, tokens split
-on whitespace). The first N row is the objective (its RHS entry r gives the constant -r, the
+on whitespace, any number of row/value pairs on a COLUMNS, RHS or RANGES line; '*' lines are
+comments). The first N row is the objective (its RHS entry r gives the constant -r, the
 usual MPS convention); other N rows are dropped. Rows: E -> A x = b, L -> a'x <= b,
 G -> a'x >= b, RANGES as in the MPS definition (E with R > 0: [b, b + R], R < 0: [b + R, b];
 L: [b - |R|, b]; G: [b, b + |R|]). BOUNDS UP, LO, FX, FR, MI, PL; default 0 <= x < inf. Every

@@ -1,3 +1,6 @@
+* netlib lp/data AFIRO: free-format transcription of alexandervyatsu/simplex2 afiro.mps 8c8c840
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -4.6475314286e+02. Converted by tools/mps_to_cbf.py.
 NAME AFIRO
 ROWS
  E R09

@@ -1,3 +1,6 @@
+* netlib lp/data BLEND: free-format transcription of ERGO-Code/HiGHS check/instances/blend.mps 625cd4c
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -3.0812149846e+01. Converted by tools/mps_to_cbf.py.
 NAME BLEND
 ROWS
  E 1

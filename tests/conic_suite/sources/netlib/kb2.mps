@@ -1,3 +1,6 @@
+* netlib lp/data KB2: free-format transcription of ERGO-Code/HiGHS check/instances/kb2.mps 0edab95
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -1.7499001299e+03. Converted by tools/mps_to_cbf.py.
 NAME KB2
 ROWS
  N FAT7..J.

@@ -1,3 +1,6 @@
+* netlib lp/data SC105: free-format transcription of ERGO-Code/HiGHS check/instances/sc105.mps 5028f1d
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -5.2202061212e+01. Converted by tools/mps_to_cbf.py.
 NAME SC105
 ROWS
  N MAXIM

@@ -1,3 +1,6 @@
+* netlib lp/data SC50A: free-format transcription of ERGO-Code/HiGHS check/instances/sc50a.mps 0edab95
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -6.4575077059e+01. Converted by tools/mps_to_cbf.py.
 NAME SC50A
 ROWS
  N MAXIM

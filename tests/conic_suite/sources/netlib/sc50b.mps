@@ -1,3 +1,6 @@
+* netlib lp/data SC50B: free-format transcription of ERGO-Code/HiGHS check/instances/sc50b.mps 3592828
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -7.0000000000e+01. Converted by tools/mps_to_cbf.py.
 NAME SC50B
 ROWS
  N MAXIM

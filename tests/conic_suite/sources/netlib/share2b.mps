@@ -1,3 +1,6 @@
+* netlib lp/data SHARE2B: free-format transcription of ERGO-Code/HiGHS check/instances/share2b.mps 3592828
+* (tokens as in the source, blanks compacted, several row/value pairs on a COLUMNS line).
+* Published optimum (netlib lp/data readme): -4.1573224074e+02. Converted by tools/mps_to_cbf.py.
 NAME SHARE2B
 ROWS
  N 000000
