@@ -9,6 +9,7 @@
 
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
+#include "experiments/tracker_option_table.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
@@ -34,27 +35,28 @@ std::string run_name(const LosoRun& r, const std::string& parameter) {
 
 }  // namespace
 
-void set_policy_parameter(odometry::TrackerOptions& o, const std::string& name, double v) {
-  odometry::PolicyParameters& p = o.policy;
-  if (name == "lambda")
-    p.lambda = v;
-  else if (name == "phi")
-    p.phi = v;
-  else if (name == "kappa")
-    p.kappa = v;
-  else if (name == "eps_ratio")
-    p.eps_ratio = v;
-  else if (name == "guard")
-    p.guard = v;
-  else if (name == "trust")
-    p.trust = v;
-  else if (name == "joint_tolerance")
-    p.joint_tolerance = v;
-  else if (name == "relaxed_tolerance")
-    p.relaxed_tolerance = v;
-  else
-    throw Error("loso: unknown parameter '" + name +
-                "' (valid: lambda, phi, kappa, eps_ratio, guard, trust, joint_tolerance, relaxed_tolerance)");
+void set_loso_parameter(odometry::TrackerOptions& o, const std::string& name, double v) {
+  const TrackerOption* option = find_tracker_option_by_key(name);
+  if (!option) option = find_tracker_option_by_key("policy." + name);
+  const bool numeric = option && (option->type == OptionType::kNumber || option->type == OptionType::kInteger ||
+                                  option->type == OptionType::kOptionalNumber);
+  if (!numeric) {
+    std::string valid;
+    for (const TrackerOption& t : tracker_option_table()) {
+      if (t.type == OptionType::kNumber || t.type == OptionType::kInteger || t.type == OptionType::kOptionalNumber)
+        valid += (valid.empty() ? "" : ", ") + t.key;
+    }
+    throw Error("loso: '" + name + "' is not a numeric tracker option (valid: " + valid +
+                "; a policy.* key may be given without 'policy.')");
+  }
+  nlohmann::json value = v;
+  if (option->type == OptionType::kInteger && std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)
+    value = static_cast<long long>(v);
+  try {
+    apply_tracker_option(*option, value, o);
+  } catch (const Error& e) {
+    throw Error(std::string("loso: ") + e.what());
+  }
 }
 
 std::vector<LosoRun> loso_units(const LosoOptions& o) {
@@ -62,7 +64,7 @@ std::vector<LosoRun> loso_units(const LosoOptions& o) {
     throw Error("loso: needs at least 2 sequences (one is held out), got " + std::to_string(o.sequences.size()));
   if (o.grid.empty()) throw Error("loso: the grid of '" + o.parameter + "' is empty");
   odometry::TrackerOptions probe = o.tracker;
-  set_policy_parameter(probe, o.parameter, o.grid.front());  // an unknown name fails before any run
+  for (double v : o.grid) set_loso_parameter(probe, o.parameter, v);  // a bad name or value fails before any run
   std::vector<LosoRun> units;
   for (int s = 0; s < static_cast<int>(o.sequences.size()); ++s) {
     LosoRun r;
@@ -91,7 +93,7 @@ void run_loso_unit(const LosoOptions& o, LosoRun& r) {
   req.tracker = o.tracker;
   req.tracker.method = r.method;
   req.tracker.backend = "";
-  if (r.has_value) set_policy_parameter(req.tracker, o.parameter, r.value);
+  if (r.has_value) set_loso_parameter(req.tracker, o.parameter, r.value);
   req.first_frame = o.first_frame;
   req.max_frames = o.max_frames;
   req.progress = o.progress;

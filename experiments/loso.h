@@ -19,7 +19,7 @@ namespace bivo::experiments {
 struct LosoOptions {
   std::vector<std::string> sequences;
   std::string method = "robust";
-  std::string parameter = "trust";  // a PolicyParameters field (set_policy_parameter)
+  std::string parameter = "trust";  // a numeric tracker option (set_loso_parameter)
   std::vector<double> grid;
   std::string reference = "single";
   std::vector<std::string> methods;  // reported beside, at their defaults
@@ -56,9 +56,11 @@ struct LosoResult {
   std::vector<LosoRow> rows;
 };
 
-// Sets the policy parameter `name` (lambda, phi, kappa, eps_ratio, guard, trust,
-// joint_tolerance, relaxed_tolerance); bivo::Error naming the valid ones otherwise.
-void set_policy_parameter(odometry::TrackerOptions& options, const std::string& name, double value);
+// Sets the numeric tracker option `name`, a JSON key of tracker_option_table.h
+// ("problem.depth_noise_exponent", "policy.trust"; a policy key also without "policy."),
+// checked as a flag or a configuration file would be; bivo::Error naming the valid keys or
+// the value's range otherwise.
+void set_loso_parameter(odometry::TrackerOptions& options, const std::string& name, double value);
 
 // The runs the protocol needs, in order: per sequence the reference, the grid, the methods.
 std::vector<LosoRun> loso_units(const LosoOptions& options);

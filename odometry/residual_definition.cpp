@@ -1,5 +1,7 @@
 #include "odometry/residual_definition.h"
 
+#include <cmath>
+
 namespace bivo::odometry {
 namespace {
 
@@ -113,6 +115,7 @@ solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLeve
     ctx.warp(ref.x[k], ref.y[k], ref.z[k], ref.intensity[k], w);
     if (!(depth ? w.valid_d : w.valid_i)) continue;
     out.r(k) = depth ? w.r_d : w.r_i;
+    if (depth && options.depth_noise_exponent != 0) out.r(k) *= std::pow(1.0 / ref.z[k], options.depth_noise_exponent);
     if (!with_jacobian) continue;
     double gu = depth ? w.gd_u : w.gi_u, gv = depth ? w.gd_v : w.gi_v;
     if (options.gradients == GradientSource::kReference) gu = gv = 0.0;
@@ -122,6 +125,8 @@ solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLeve
     }
     jacobian_row(w.qx, w.qy, w.qz, gu, gv, depth, J);
     for (int c = 0; c < 6; ++c) out.J(k, c) = J[c];
+    if (depth && options.depth_noise_exponent != 0)
+      out.J.row(k) *= std::pow(1.0 / ref.z[k], options.depth_noise_exponent);
   }
   return out;
 }

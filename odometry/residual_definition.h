@@ -16,6 +16,7 @@ namespace bivo::odometry {
 struct DoublePathOptions {
   double occlusion_margin = 0.1;
   GradientSource gradients = GradientSource::kCurrent;
+  int depth_noise_exponent = 0;  // r_D and its Jacobian times (1 / z)^p, z the reference depth
 };
 
 // r (0 where invalid), J if asked (0 rows where invalid) and w = weights[k] for objective

@@ -104,6 +104,9 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
                 std::to_string(options_.max_depth) + "] is empty or not positive");
   }
   if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
+  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 2)
+    throw Error("RGB-D problem: depth_noise_exponent must be 0, 1 or 2, got " +
+                std::to_string(options_.depth_noise_exponent));
   if (options_.jacobian == JacobianKind::kMethodDefault) {
     throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
   }
@@ -201,6 +204,7 @@ WarpParams RgbdOdometryProblem::warp_params(const Eigen::VectorXd& x, ObjectiveM
   p.height = current_->intensity.height;
   p.cells = cells_;
   p.occlusion_margin = static_cast<float>(options_.occlusion_margin);
+  p.depth_noise_exponent = options_.depth_noise_exponent;
   p.objectives = mask;
   p.gradients = gradients_;
   return p;
@@ -302,6 +306,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
     NormalParams p;
     p.pose = pose_of(x);
     p.objectives = mask;
+    p.depth_noise_exponent = options_.depth_noise_exponent;
     const bool reference_g = gradients_ == GradientSource::kReference;
     p.gi_u = reference_g ? reference_terms_.gi_u.data() : gi_u_.data();
     p.gi_v = reference_g ? reference_terms_.gi_v.data() : gi_v_.data();
@@ -328,7 +333,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
   if (options.want_full) {
     solvers::ScopedPhase phase(options.profile, "normal_equations");
     const Eigen::Isometry3d T = se3::from_ambient(x);
-    const DoublePathOptions dp{options_.occlusion_margin, gradients_};
+    const DoublePathOptions dp{options_.occlusion_margin, gradients_, options_.depth_noise_exponent};
     const auto full = [&](bool depth, bool modelled) {
       if (modelled)
         return double_residuals(reference_terms_, *current_, T, depth, true, (depth ? w_d_ : w_i_).data(), dp);
@@ -490,7 +495,7 @@ solvers::ResidualData RgbdOdometryProblem::residuals(int j, const Eigen::VectorX
   check_x(x);
   const bool depth = (j == 2) != options_.depth_first;
   ensure_weights(x, depth ? ObjectiveMask{false, true} : ObjectiveMask{true, false});
-  const DoublePathOptions dp{options_.occlusion_margin, gradients_};
+  const DoublePathOptions dp{options_.occlusion_margin, gradients_, options_.depth_noise_exponent};
   return double_residuals(reference_terms_, *current_, se3::from_ambient(x), depth, with_jacobian,
                           (depth ? w_d_ : w_i_).data(), dp);
 }

@@ -46,6 +46,10 @@ struct RgbdProblemOptions {
   double min_depth = 0.1;  // metres: reference depths outside [min, max] are not used
   double max_depth = 10.0;
   double occlusion_margin = 0.1;  // metres: q_z beyond D_2(y) + margin counts as occluded
+  // r_D^i divided by (z_i / 1 m)^p, z_i the reference depth: F_D whitened for depth noise
+  // that grows with depth (structured light and stereo: sigma_z ~ z^2, p = 2), so that far
+  // pixels, several times noisier, do not count as much as near ones. 0: r_D as defined.
+  int depth_noise_exponent = 0;
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;

@@ -69,10 +69,33 @@ TEST(Loso, RefusesWhatCannotBeHeldOut) {
   EXPECT_THROW(loso_units(o), bivo::Error);
   o.parameter = "trust";
   EXPECT_EQ(loso_units(o).size(), 4u);  // per sequence: single, one grid value
+  // Any numeric tracker option, by its JSON key, checked as a flag would be.
+  o.parameter = "problem.depth_noise_exponent";
+  o.grid = {0.0, 2.0};
+  EXPECT_EQ(loso_units(o).size(), 6u);
+  for (double bad : {0.5, 3.0}) {
+    o.grid = {0.0, bad};
+    EXPECT_THROW(loso_units(o), bivo::Error) << bad;
+  }
+  o.parameter = "method";  // text, not a number
+  o.grid = {1.0};
+  EXPECT_THROW(loso_units(o), bivo::Error);
+  o.parameter = "trust";
   // A failed reference leaves the ratios undefined.
   std::vector<LosoRun> runs = {run(0, "single", 1.0, 1.0), run(1, "single", 1.0, 1.0),
                                run(0, "robust", 1.0, 1.0, true, 1.0), run(1, "robust", 1.0, 1.0, true, 1.0)};
   runs[1].ok = false;
   runs[1].error = "no groundtruth";
   EXPECT_THROW(assemble_loso(o, runs), bivo::Error);
+}
+
+TEST(Loso, TheParameterReachesItsTrackerField) {
+  bivo::odometry::TrackerOptions t;
+  set_loso_parameter(t, "problem.depth_noise_exponent", 2.0);
+  EXPECT_EQ(t.problem.depth_noise_exponent, 2);
+  set_loso_parameter(t, "trust", 42.0);
+  EXPECT_EQ(t.policy.trust, 42.0);
+  set_loso_parameter(t, "policy.kappa", 0.25);
+  EXPECT_EQ(t.policy.kappa, 0.25);
+  EXPECT_THROW(set_loso_parameter(t, "policy.kappa", -1.0), bivo::Error);  // outside [0, inf]
 }

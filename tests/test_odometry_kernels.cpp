@@ -90,21 +90,62 @@ double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).
 
 TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
   for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
-    if (!kernels_available(isa)) continue;
-    SCOPED_TRACE(to_string(isa));
-    RgbdOdometryProblem p(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0]);
-    p.set_kernel_isa(isa);
-    solvers::LinearizeOptions o;
-    o.want_full = true;
-    const solvers::Linearization lin = p.linearize(near_truth(), o);
-    for (const auto& [model, full] : {std::pair{&lin.f1, &*lin.full1}, std::pair{&lin.f2, &*lin.full2}}) {
-      const solvers::QuadraticModel want = solvers::quadratic_model_of(*full);
-      EXPECT_LT(std::abs(model->a - want.a), 2e-4 * want.a);  // float warp vs double warp
-      EXPECT_LT(rel(model->b, want.b), 2e-4);
-      EXPECT_LT(rel(model->H, want.H), 2e-4);
+    for (const int exponent : {0, 1, 2}) {
+      if (!kernels_available(isa)) continue;
+      SCOPED_TRACE(std::string(to_string(isa)) + ", depth noise exponent " + std::to_string(exponent));
+      RgbdProblemOptions options;
+      options.depth_noise_exponent = exponent;
+      RgbdOdometryProblem p(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0], options);
+      p.set_kernel_isa(isa);
+      solvers::LinearizeOptions o;
+      o.want_full = true;
+      const solvers::Linearization lin = p.linearize(near_truth(), o);
+      for (const auto& [model, full] : {std::pair{&lin.f1, &*lin.full1}, std::pair{&lin.f2, &*lin.full2}}) {
+        const solvers::QuadraticModel want = solvers::quadratic_model_of(*full);
+        EXPECT_LT(std::abs(model->a - want.a), 2e-4 * want.a);  // float warp vs double warp
+        EXPECT_LT(rel(model->b, want.b), 2e-4);
+        EXPECT_LT(rel(model->H, want.H), 2e-4);
+      }
+      EXPECT_GT(p.last_stats().valid_intensity, 0.8 * p.num_terms());
     }
-    EXPECT_GT(p.last_stats().valid_intensity, 0.8 * p.num_terms());
   }
+}
+
+// The depth noise exponent p divides each term's r_D and its Jacobian row by z^p, z the
+// reference pixel's depth: checked against the depths read from the reference image (terms
+// are its pixels with depth in [min_depth, max_depth], row by row).
+TEST(RgbdKernels, DepthNoiseExponentDividesEachDepthTermByItsDepthToThePower) {
+  const RgbdLevel& a = scene().reference.pyramid.levels[1];
+  const RgbdLevel& b = scene().current.pyramid.levels[1];
+  std::vector<double> z;
+  for (const float d : a.depth.data) {
+    if (d >= 0.1f && d <= 10.0f) z.push_back(d);
+  }
+  const Eigen::VectorXd x = near_truth();
+  RgbdProblemOptions plain;
+  plain.weights.kind = WeightKind::kNone;
+  RgbdOdometryProblem p0(a, b, plain);
+  ASSERT_EQ(static_cast<std::size_t>(p0.num_terms()), z.size());
+  const solvers::ResidualData d0 = p0.residuals(2, x, true);
+  for (const int exponent : {1, 2}) {
+    RgbdProblemOptions o = plain;
+    o.depth_noise_exponent = exponent;
+    RgbdOdometryProblem p(a, b, o);
+    const solvers::ResidualData d = p.residuals(2, x, true);
+    Eigen::VectorXd scale(d0.r.size());
+    for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = std::pow(z[static_cast<std::size_t>(k)], -exponent);
+    EXPECT_LT((d.r - scale.cwiseProduct(d0.r)).norm(), 1e-12 * d0.r.norm()) << exponent;
+    EXPECT_LT((d.J - scale.asDiagonal() * d0.J).norm(), 1e-12 * d0.J.norm()) << exponent;
+    // The float kernels' F_D (unit weights) is the sum of the scaled squares.
+    const double want = d.r.squaredNorm();
+    EXPECT_NEAR(p.evaluate(x)[1], want, 1e-4 * want) << exponent;
+    // The plane lies 1.4-2 m away: the scale leaves r_D's sum between (1/2)^2p and (1/1.4)^2p of it.
+    EXPECT_LT(want, std::pow(1 / 1.4, 2 * exponent) * d0.r.squaredNorm());
+    EXPECT_GT(want, std::pow(0.5, 2 * exponent) * d0.r.squaredNorm());
+  }
+  RgbdProblemOptions bad = plain;
+  bad.depth_noise_exponent = 3;
+  EXPECT_THROW(RgbdOdometryProblem(a, b, bad), Error);
 }
 
 // The eight- and sixteen-lane kernels against the one-lane kernels (the scene's term count is

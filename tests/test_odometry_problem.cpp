@@ -118,6 +118,20 @@ TEST(RgbdProblem, JacobiansMatchCentralDifferencesOnRealFrames) {
   }
 }
 
+// F_D whitened for depth noise growing with z^2: r_D / z^2 and its Jacobian.
+TEST(RgbdProblem, WhitenedDepthJacobiansMatchCentralDifferences) {
+  if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
+  const Pair p = load_pair("rgbd_dataset_freiburg1_desk", 3, 5, 2);
+  RgbdProblemOptions o;
+  o.depth_noise_exponent = 2;
+  RgbdOdometryProblem problem(p.reference.levels[1], p.current.levels[1], o);
+  se3::Vector6d wiggle;
+  wiggle << 0.004, -0.003, 0.002, 0.002, -0.003, 0.001;
+  const FdReport rep = check_jacobian(problem, 2, se3::to_ambient(se3::exp(wiggle) * p.truth), 1e-6);
+  EXPECT_GT(rep.compared, 10000);
+  EXPECT_EQ(rep.failures, 0) << "max relative error " << rep.max_rel;
+}
+
 TEST(RgbdProblem, AccumulatedModelsEqualFullResidualData) {
   if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
   const Pair p = load_pair("rgbd_dataset_freiburg1_desk", 0, 1, 3);

@@ -22,7 +22,9 @@ void add_loso_command(CLI::App& app) {
   auto a = std::make_shared<Args>();
   cmd->add_option("--sequences", a->o.sequences, "TUM sequence folders with groundtruth.txt (at least 2)")->required();
   cmd->add_option("--method", a->o.method, "the method whose parameter is chosen")->capture_default_str();
-  cmd->add_option("--parameter", a->o.parameter, "its policy parameter (e.g. trust, kappa, guard)")
+  cmd->add_option("--parameter", a->o.parameter,
+                  "the numeric tracker option chosen: its JSON key (problem.depth_noise_exponent, policy.trust; policy "
+                  "keys also bare: trust, kappa, guard)")
       ->capture_default_str();
   cmd->add_option("--grid", a->o.grid, "candidate values of the parameter")->required();
   cmd->add_option("--reference", a->o.reference, "the method the ratios are taken to")->capture_default_str();

@@ -77,6 +77,9 @@ struct WarpParams {
   float min_z = 1e-6f;
   ObjectiveMask objectives;
   GradientSource gradients = GradientSource::kCurrent;
+  // r_D (and its Jacobian) divided by (z / 1 m)^p, z the reference term's depth: depth noise
+  // that grows with depth (p = 2: Kinect-class disparity). 0: r_D as defined.
+  int depth_noise_exponent = 0;
   bool weighted_sums = false;  // also F_j = sum w_j r_j^2 with the weights in the buffers
   // false: only the sums (weighted_sums must be set), nothing written to the buffers, which
   // keep the previous warp: an evaluation that no linearization will reuse.
@@ -128,6 +131,7 @@ struct WeighSums {
 struct NormalParams {
   PoseF pose;
   ObjectiveMask objectives;
+  int depth_noise_exponent = 0;  // as WarpParams
   // Gradients the Jacobians use: the buffers' (current / average) or the reference's.
   const float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
 };

@@ -9,6 +9,7 @@
 //   r_I = I_2(y) - I_1(x),  r_D = D_2(y) - q_z
 //   fx dI_2/du = fx lerp(b, I10 - I00, I11 - I01),  fy dI_2/dv = fy lerp(a, I01 - I00, I11 - I10)
 //   c = (g_u / q_z, g_v / q_z, -(g_u q_x + g_v q_y) / q_z^2) (- e_z for r_D),  J = [c, q x c]
+//   with a depth noise exponent p, r_D and its J times s = (1 / z)^p, z the reference depth
 #include "odometry/kernels/rgbd_kernels.h"
 #include "odometry/kernels/simd_lanes.h"
 
@@ -37,6 +38,13 @@ struct LanePose {
 template <class V>
 inline typename V::F lerp(typename V::F s, typename V::F a, typename V::F b) {
   return V::fma(s, b - a, a);
+}
+
+// The depth residual's scale s = (1 / z)^p for reference depths z (p in {1, 2}).
+template <class V>
+inline typename V::F depth_noise_scale(typename V::F z, int exponent) {
+  const typename V::F iz = V::set(1.0f) / z;
+  return exponent == 1 ? iz : iz * iz;
 }
 
 // kStore false: the same sums, in the same order, without the stores and the gradients.
@@ -122,8 +130,10 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
                     out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
         }
         if (want_d) {
-          objective(valid_d, d2 - qz, c.d00, c.d10, c.d01, c.d11, out.r_d, out.w_d, out.gd_u, out.gd_v, ref.gd_u,
-                    ref.gd_v, ss_d, f_d);
+          F r_d = d2 - qz;
+          if (p.depth_noise_exponent != 0) r_d = r_d * depth_noise_scale<V>(V::load(ref.z + k), p.depth_noise_exponent);
+          objective(valid_d, r_d, c.d00, c.d10, c.d01, c.d11, out.r_d, out.w_d, out.gd_u, out.gd_v, ref.gd_u, ref.gd_v,
+                    ss_d, f_d);
         }
       }
     }
@@ -310,12 +320,11 @@ inline void gram_rows(const float (*block)[kBlockTerms], int groups, typename V:
 
 template <class V>
 inline void stage_jacobian(typename V::F qx, typename V::F qy, typename V::F qz, typename V::F iz, typename V::F gu,
-                           typename V::F gv, bool minus_z, typename V::F r, typename V::F w,
+                           typename V::F gv, typename V::F dz, typename V::F r, typename V::F w,
                            float (*block)[kBlockTerms], int o) {
   using F = typename V::F;
   const F c0 = gu * iz, c1 = gv * iz;
-  F c2 = -(V::fma(gu, qx, gv * qy) * iz * iz);
-  if (minus_z) c2 = c2 - V::set(1.0f);
+  const F c2 = -(V::fma(gu, qx, gv * qy) * iz * iz) - dz;  // dz: d r / d q_z beyond the image (r_D: s)
   V::store(&block[0][o], c0);
   V::store(&block[1][o], c1);
   V::store(&block[2][o], c2);
@@ -359,7 +368,8 @@ NormalSums normal_equations(const NormalParams& p, const WeightModel& m, const R
         const int o = g * V::kWidth;
         const M valid_i = V::flag(buf.flags + k, 1), valid_d = V::flag(buf.flags + k, 2);
         F qx, qy, qz;
-        T.apply(V::load(ref.x + k), V::load(ref.y + k), V::load(ref.z + k), qx, qy, qz);
+        const F z = V::load(ref.z + k);
+        T.apply(V::load(ref.x + k), V::load(ref.y + k), z, qx, qy, qz);
         // 0 on terms valid in neither objective (q_z may be 0 there): J stays finite.
         const F iz = V::select(valid_i | valid_d, one / qz, zero);
         const F r_i = want_i ? V::load(buf.r_i + k) : zero;
@@ -367,10 +377,17 @@ NormalSums normal_equations(const NormalParams& p, const WeightModel& m, const R
         F w_i = zero, w_d = zero;
         lane_weights<V, kKind>(m, p.objectives, buf, k, valid_i, valid_d, r_i, r_d, w_i, w_d);
         if (want_i) {
-          stage_jacobian<V>(qx, qy, qz, iz, V::load(p.gi_u + k), V::load(p.gi_v + k), false, r_i, w_i, block_i, o);
+          stage_jacobian<V>(qx, qy, qz, iz, V::load(p.gi_u + k), V::load(p.gi_v + k), zero, r_i, w_i, block_i, o);
         }
         if (want_d) {
-          stage_jacobian<V>(qx, qy, qz, iz, V::load(p.gd_u + k), V::load(p.gd_v + k), true, r_d, w_d, block_d, o);
+          F gu = V::load(p.gd_u + k), gv = V::load(p.gd_v + k), dz = one;
+          if (p.depth_noise_exponent != 0) {
+            // Invalid terms have r = 0 and w = 0; s is finite wherever z > 0.
+            dz = V::select(valid_d, depth_noise_scale<V>(z, p.depth_noise_exponent), zero);
+            gu = gu * dz;
+            gv = gv * dz;
+          }
+          stage_jacobian<V>(qx, qy, qz, iz, gu, gv, dz, r_d, w_d, block_d, o);
         }
       }
       if (want_i) {
