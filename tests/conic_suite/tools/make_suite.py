@@ -48,16 +48,14 @@ def netlib():
     for name, (optimum, copy) in NETLIB.items():
         n, c, A, b, G, h, c0 = mps_to_cbf.convert(os.path.join(SUITE, "sources", "netlib", name + ".mps"))
         assert c0 == 0.0
-        dense = lambda trip, rows: np.array([[0.0] * n] * rows) if rows else None  # noqa: E731
-        Gd, Ad = dense(G, len(h)), dense(A, len(b))
-        for i, j, v in G:
-            Gd[i, j] += v
-        for i, j, v in A:
-            Ad[i, j] += v
+        Gd, Ad = np.zeros((len(h), n)), np.zeros((len(b), n))
+        for M, trip in ((Gd, G), (Ad, A)):
+            for i, j, v in trip:
+                M[i, j] += v
         out.append(Problem("netlib_" + name, "netlib LP", "netlib lp/data %s (free-format transcription of %s; "
                            "tests/conic_suite/sources/netlib/%s.mps)" % (name.upper(), copy, name),
                            "netlib lp/data: freely distributed test data, no licence terms", OPTIMAL, c=c, G=Gd, h=h,
-                           l=len(h), A=Ad, b=b if b else None, objective=optimum,
+                           l=len(h), A=Ad if b else None, b=b if b else None, objective=optimum,
                            objective_source="netlib lp/data readme (11 significant digits)"))
     return out
 
