@@ -26,6 +26,9 @@ PACKAGES=(
   pybind11-dev python3-pybind11 python3-dev
   python3-pytest
   python3-scipy
+  # The public conic suite's second solver (benchmarks/conic_suite_vs_cvxopt.py, the
+  # cross-check of regenerated problems' optima).
+  python3-cvxopt
   # Sharded studies (docs/scaling.md): GNU Parallel, and Slurm + munge for the test that
   # brings up a single-node cluster on localhost.
   parallel
