@@ -115,9 +115,9 @@ std::vector<TrackerOption> build_table() {
              "depth trust statistic (photometric distance of the bi-objective estimate, in sigma_I^2) above "
              "which a level falls back to F_I alone",
              BIVO_FIELD(policy.trust), "robust"),
-      number("policy.joint_kappa", "--joint-kappa", 0.0, kInf,
-             "joint, robust: lambda = joint_kappa S_II / S_DD (1: the bivariate t's own balance)",
-             BIVO_FIELD(policy.joint_kappa)),
+      number("policy.robust_kappa", "--robust-kappa", 0.0, kInf,
+             "lambda = robust_kappa S_II / S_DD (1: joint's balance of the two residuals)",
+             BIVO_FIELD(policy.robust_kappa), "robust"),
       integer("policy.photometric_start_levels", "--photometric-start-levels", 0, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off)",
               BIVO_FIELD(policy.photometric_start_levels)),

@@ -138,7 +138,8 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
 }
 
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p) {
-  if (method == Method::kJoint || method == Method::kRobust) return p.joint_kappa * stats.joint_scale.implied_lambda();
+  if (method == Method::kJoint) return stats.joint_scale.implied_lambda();
+  if (method == Method::kRobust) return p.robust_kappa * stats.joint_scale.implied_lambda();
   if (method == Method::kScaled) {
     const double si = stats.sigma_intensity, sd = stats.sigma_depth;
     return sd > 0.0 && std::isfinite(si) ? p.kappa * (si * si) / (sd * sd) : 0.0;
