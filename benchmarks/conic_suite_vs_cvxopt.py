@@ -20,9 +20,7 @@ import math
 import os
 import re
 import statistics
-import subprocess
 import sys
-import tempfile
 import time
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -30,23 +28,15 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 HERE = os.path.dirname(os.path.abspath(__file__))
 SUITE = os.path.join(HERE, "..", "tests", "conic_suite")
 sys.path.insert(0, os.path.join(SUITE, "tools"))
+sys.path.insert(0, HERE)
 import cvxopt_solve  # noqa: E402
+from gbench_runs import gbench_runs  # noqa: E402
 from cbf_reader import read_cbf  # noqa: E402
 
 
 def bivo_times(bench, repetitions, filt, min_time):
-    with tempfile.NamedTemporaryFile(suffix=".json") as out:
-        cmd = [bench, "--benchmark_filter=BM_ConicSuite(_NoPolish)?/.*(%s)" % filt,
-               "--benchmark_repetitions=%d" % repetitions, "--benchmark_min_time=%g" % min_time,
-               "--benchmark_out=" + out.name,
-               "--benchmark_out_format=json"]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-        data = json.load(open(out.name))
-    runs = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type", "iteration") != "iteration" or b.get("error_occurred"):
-            continue
-        runs.setdefault(b.get("run_name", b["name"]), []).append(b)
+    runs = gbench_runs([bench, "--benchmark_filter=BM_ConicSuite(_NoPolish)?/.*(%s)" % filt,
+                        "--benchmark_repetitions=%d" % repetitions, "--benchmark_min_time=%g" % min_time])
     out = {}
     for name, bs in runs.items():
         kind, problem = name.split("/", 1)

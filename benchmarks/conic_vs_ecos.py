@@ -15,9 +15,10 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gbench_runs import gbench_runs  # noqa: E402
 
 # ECOS CPU ms per solve (active, inactive); 640x480: ECOS did not converge on any instance.
 ECOS_MS = {40: (8.2, 5.0), 80: (44.0, 25.0), 160: (279.0, 131.0), 320: (9700.0, 1500.0)}
@@ -37,16 +38,8 @@ def main():
         sys.exit(f"error: {a.bench} is not an executable (build it: cmake --build build --target bivo_bench)")
     widths = [int(w) for w in a.sizes.split(",")]
     filt = "BM_PaperSocp/(" + "|".join(str(w) for w in widths) + ")/"
-    with tempfile.NamedTemporaryFile(suffix=".json") as out:
-        cmd = [a.bench, "--benchmark_filter=" + filt, "--benchmark_repetitions=%d" % a.repetitions,
-               "--benchmark_out=" + out.name, "--benchmark_out_format=json", "--benchmark_report_aggregates_only=false"]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-        data = json.load(open(out.name))
-    runs = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type", "iteration") != "iteration" or b.get("error_occurred"):
-            continue
-        runs.setdefault(b["run_name"] if "run_name" in b else b["name"], []).append(b)
+    runs = gbench_runs([a.bench, "--benchmark_filter=" + filt, "--benchmark_repetitions=%d" % a.repetitions,
+                        "--benchmark_report_aggregates_only=false"])
     rows = []
     for name, bs in runs.items():
         _, width, active, seed = name.split("/")[:4]

@@ -1,15 +1,7 @@
 # ctest install_package: `cmake --install` into a temporary prefix, then examples/cpp built
 # against it with find_package(bivo) and run, and the installed Python module imported.
 # -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D PYTHON=... -D CXX=... -D CXX_FLAGS=... -D LINKER_FLAGS=...
-file(REMOVE_RECURSE ${WORK_DIR})
-set(prefix ${WORK_DIR}/prefix)
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/install_test_prefix.cmake)
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 foreach(f bin/bivo lib/cmake/bivo/bivoConfig.cmake include/bivo/solvers/outer_loop.h include/bivo/odometry/io/tum_dataset.h)
   if(NOT EXISTS ${prefix}/${f})

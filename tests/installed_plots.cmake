@@ -4,15 +4,7 @@
 # the path compiled into the binary. Skipped, saying why, without python3 + matplotlib or
 # where unshare/mount are not permitted (the test then proves nothing about the source tree).
 # -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=...
-file(REMOVE_RECURSE ${WORK_DIR})
-set(prefix ${WORK_DIR}/prefix)
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}${err}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/install_test_prefix.cmake)
 execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
 if(NOT rc EQUAL 0)
   message(STATUS "SKIPPED: /usr/bin/python3 with matplotlib is absent, so bivo cannot plot")
