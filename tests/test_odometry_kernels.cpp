@@ -26,8 +26,8 @@ namespace se3 = bivo::solvers::se3;
 
 using bivo::testing::kK;
 using bivo::testing::near_truth;
-using bivo::testing::render_plane;
 using bivo::testing::rel;
+using bivo::testing::render_plane;
 using bivo::testing::scene;
 
 TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
