@@ -56,43 +56,8 @@ TEST(ConicExitCertificates, InfeasibleAndUnboundedSocps) {
   ExitTally t;
   for (const bool dual : {false, true}) {
     std::mt19937 rng(dual ? 6 : 5);
-    std::normal_distribution<double> g(0.0, 1.0);
     for (int trial = 0; trial < 100; ++trial) {
-      ConicProblem p;
-      p.cones = random_cones(rng);
-      const ConeProduct K(p.cones);
-      const int n = dual ? 2 + trial % 5 : 1 + trial % 6, np = trial % 2;
-      Eigen::MatrixXd A = Eigen::MatrixXd(random_sparse(np, n, 1.0, rng));
-      Eigen::MatrixXd G = Eigen::MatrixXd(random_sparse(K.dim(), n, dual ? 0.8 : 0.8, rng));
-      if (!dual) {
-        const Eigen::VectorXd zb = random_interior(K, rng);
-        Eigen::VectorXd yb(np), x0(n), h(K.dim());
-        for (int i = 0; i < np; ++i) yb[i] = g(rng);
-        for (int i = 0; i < n; ++i) x0[i] = g(rng);
-        for (int i = 0; i < K.dim(); ++i) h[i] = g(rng);
-        G -= zb * (G.transpose() * zb + A.transpose() * yb).transpose() / zb.squaredNorm();
-        const Eigen::VectorXd b = A * x0;
-        h -= zb * (h.dot(zb) + b.dot(yb) + 1.0) / zb.squaredNorm();
-        p.A = A.sparseView();
-        p.G = G.sparseView(1.0, 1e-12);
-        p.b = b;
-        p.h = h;
-        const Eigen::VectorXd z1 = random_interior(K, rng);
-        p.c = -(G.transpose() * z1);
-        if (np) p.c -= A.transpose() * Eigen::VectorXd::NullaryExpr(np, [&]() { return g(rng); });
-      } else {
-        Eigen::VectorXd d(n), x0(n), c(n);
-        for (int i = 0; i < n; ++i) d[i] = g(rng), x0[i] = g(rng), c[i] = g(rng);
-        A -= (A * d) * d.transpose() / d.squaredNorm();
-        const Eigen::VectorXd kb = random_interior(K, rng);
-        G -= (G * d + kb) * d.transpose() / d.squaredNorm();
-        c -= d * (c.dot(d) + 1.0) / d.squaredNorm();
-        p.A = A.sparseView();
-        p.G = G.sparseView(1.0, 0.0);
-        p.b = A * x0;
-        p.h = G * x0 + random_interior(K, rng);
-        p.c = c;
-      }
+      const ConicProblem p = dual ? random_dual_infeasible_socp(trial, rng) : random_primal_infeasible_socp(trial, rng);
       const IpmResult r = solve_conic(p);
       EXPECT_EQ(r.status, dual ? IpmStatus::kDualInfeasible : IpmStatus::kPrimalInfeasible) << status_text(r);
       check_exit(p, r, std::string(dual ? "unbounded " : "infeasible ") + std::to_string(trial), t);

@@ -158,32 +158,9 @@ TEST(ConicIpm, ThousandRandomFeasibleSocpsMeetKktTolerance) {
 
 TEST(ConicIpm, PrimalInfeasibleIsCertified) {
   std::mt19937 rng(5);
-  std::normal_distribution<double> g(0.0, 1.0);
   for (int trial = 0; trial < 100; ++trial) {
-    ConicProblem p;
-    p.cones = random_cones(rng);
+    const ConicProblem p = random_primal_infeasible_socp(trial, rng);
     const ConeProduct K(p.cones);
-    const int n = 1 + trial % 6, np = trial % 2;
-    Eigen::MatrixXd A = Eigen::MatrixXd(random_sparse(np, n, 1.0, rng));
-    Eigen::MatrixXd G = Eigen::MatrixXd(random_sparse(K.dim(), n, 0.8, rng));
-    const Eigen::VectorXd zb = random_interior(K, rng);
-    Eigen::VectorXd yb(np), x0(n), h(K.dim());
-    for (int i = 0; i < np; ++i) yb[i] = g(rng);
-    for (int i = 0; i < n; ++i) x0[i] = g(rng);
-    for (int i = 0; i < K.dim(); ++i) h[i] = g(rng);
-    // Make (yb, zb) a certificate: A^T yb + G^T zb = 0, h^T zb + b^T yb = -1.
-    G -= zb * (G.transpose() * zb + A.transpose() * yb).transpose() / zb.squaredNorm();
-    const Eigen::VectorXd b = A * x0;
-    h -= zb * (h.dot(zb) + b.dot(yb) + 1.0) / zb.squaredNorm();
-    p.A = A.sparseView();
-    p.G = G.sparseView(1.0, 1e-12);  // rows cancelled to ~1e-17 become exact zeros
-    p.b = b;
-    p.h = h;
-    // Dual strictly feasible (c = -A^T y1 - G^T z1, z1 in int K), so the primal certificate
-    // is the only possible answer.
-    const Eigen::VectorXd z1 = random_interior(K, rng);
-    p.c = -(G.transpose() * z1);
-    if (np) p.c -= A.transpose() * Eigen::VectorXd::NullaryExpr(np, [&]() { return g(rng); });
     const IpmResult r = solve_conic(p);
     if (r.status != IpmStatus::kPrimalInfeasible) {
       IpmSettings st;
@@ -193,7 +170,7 @@ TEST(ConicIpm, PrimalInfeasibleIsCertified) {
     ASSERT_EQ(r.status, IpmStatus::kPrimalInfeasible) << "trial " << trial << ": " << to_string(r.status);
     // The returned certificate is checked from its definition.
     Eigen::VectorXd aty = p.G.transpose() * r.z;
-    if (np) aty += p.A.transpose() * r.y;
+    if (p.A.rows()) aty += p.A.transpose() * r.y;
     EXPECT_NEAR(p.h.dot(r.z) + p.b.dot(r.y), -1.0, 1e-9);
     EXPECT_LT(aty.norm(), 1e-7);
     EXPECT_GE(K.min_eigenvalue(r.z), -1e-9);
@@ -202,30 +179,13 @@ TEST(ConicIpm, PrimalInfeasibleIsCertified) {
 
 TEST(ConicIpm, DualInfeasibleIsCertified) {
   std::mt19937 rng(6);
-  std::normal_distribution<double> g(0.0, 1.0);
   for (int trial = 0; trial < 100; ++trial) {
-    ConicProblem p;
-    p.cones = random_cones(rng);
+    const ConicProblem p = random_dual_infeasible_socp(trial, rng);
     const ConeProduct K(p.cones);
-    const int n = 2 + trial % 5, np = trial % 2;
-    Eigen::MatrixXd A = Eigen::MatrixXd(random_sparse(np, n, 1.0, rng));
-    Eigen::MatrixXd G = Eigen::MatrixXd(random_sparse(K.dim(), n, 0.8, rng));
-    Eigen::VectorXd d(n), x0(n), c(n);
-    for (int i = 0; i < n; ++i) d[i] = g(rng), x0[i] = g(rng), c[i] = g(rng);
-    // A d = 0, -G d in int K, c^T d = -1: the ray x0 + t d is feasible and unbounded below.
-    A -= (A * d) * d.transpose() / d.squaredNorm();
-    const Eigen::VectorXd kb = random_interior(K, rng);
-    G -= (G * d + kb) * d.transpose() / d.squaredNorm();
-    c -= d * (c.dot(d) + 1.0) / d.squaredNorm();
-    p.A = A.sparseView();
-    p.G = G.sparseView(1.0, 0.0);
-    p.b = A * x0;
-    p.h = G * x0 + random_interior(K, rng);
-    p.c = c;
     const IpmResult r = solve_conic(p);
     ASSERT_EQ(r.status, IpmStatus::kDualInfeasible) << "trial " << trial << ": " << to_string(r.status);
     EXPECT_NEAR(p.c.dot(r.x), -1.0, 1e-9);
-    if (np) {
+    if (p.A.rows()) {
       EXPECT_LT((p.A * r.x).norm(), 1e-7);
     }
     EXPECT_GE(K.min_eigenvalue(-(p.G * r.x)), -1e-7);

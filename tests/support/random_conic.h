@@ -77,4 +77,57 @@ class RandomFeasibleSocps {
   std::normal_distribution<double> g_{0.0, 1.0};
 };
 
+// Primal infeasible SOCP number `trial` (1-6 variables, 0-1 equalities): (yb, zb), zb inside
+// K, is made a certificate (A'yb + G'zb = 0, h'zb + b'yb = -1) and the dual is strictly
+// feasible, so "primal infeasible" is the only right answer.
+inline ConicProblem random_primal_infeasible_socp(int trial, std::mt19937& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  ConicProblem p;
+  p.cones = random_cones(rng);
+  const ConeProduct K(p.cones);
+  const int n = 1 + trial % 6, np = trial % 2;
+  Eigen::MatrixXd A = Eigen::MatrixXd(random_sparse(np, n, 1.0, rng));
+  Eigen::MatrixXd G = Eigen::MatrixXd(random_sparse(K.dim(), n, 0.8, rng));
+  const Eigen::VectorXd zb = random_interior(K, rng);
+  Eigen::VectorXd yb(np), x0(n), h(K.dim());
+  for (int i = 0; i < np; ++i) yb[i] = g(rng);
+  for (int i = 0; i < n; ++i) x0[i] = g(rng);
+  for (int i = 0; i < K.dim(); ++i) h[i] = g(rng);
+  G -= zb * (G.transpose() * zb + A.transpose() * yb).transpose() / zb.squaredNorm();
+  const Eigen::VectorXd b = A * x0;
+  h -= zb * (h.dot(zb) + b.dot(yb) + 1.0) / zb.squaredNorm();
+  p.A = A.sparseView();
+  p.G = G.sparseView(1.0, 1e-12);  // rows cancelled to ~1e-17 become exact zeros
+  p.b = b;
+  p.h = h;
+  const Eigen::VectorXd z1 = random_interior(K, rng);
+  p.c = -(G.transpose() * z1);
+  if (np) p.c -= A.transpose() * Eigen::VectorXd::NullaryExpr(np, [&]() { return g(rng); });
+  return p;
+}
+
+// Dual infeasible (unbounded) SOCP number `trial` (2-6 variables, 0-1 equalities): a ray
+// x0 + t d with A d = 0, -G d inside K and c'd = -1 is feasible and unbounded below.
+inline ConicProblem random_dual_infeasible_socp(int trial, std::mt19937& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  ConicProblem p;
+  p.cones = random_cones(rng);
+  const ConeProduct K(p.cones);
+  const int n = 2 + trial % 5, np = trial % 2;
+  Eigen::MatrixXd A = Eigen::MatrixXd(random_sparse(np, n, 1.0, rng));
+  Eigen::MatrixXd G = Eigen::MatrixXd(random_sparse(K.dim(), n, 0.8, rng));
+  Eigen::VectorXd d(n), x0(n), c(n);
+  for (int i = 0; i < n; ++i) d[i] = g(rng), x0[i] = g(rng), c[i] = g(rng);
+  A -= (A * d) * d.transpose() / d.squaredNorm();
+  const Eigen::VectorXd kb = random_interior(K, rng);
+  G -= (G * d + kb) * d.transpose() / d.squaredNorm();
+  c -= d * (c.dot(d) + 1.0) / d.squaredNorm();
+  p.A = A.sparseView();
+  p.G = G.sparseView(1.0, 0.0);
+  p.b = A * x0;
+  p.h = G * x0 + random_interior(K, rng);
+  p.c = c;
+  return p;
+}
+
 }  // namespace bivo::solvers::conic::testing
