@@ -77,8 +77,7 @@ struct PolicyParameters {
   // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
   // level's bi-objective estimate is rejected for the photometric one. 1e12: never in practice.
   // T also grows with the photometric model's own errors (exposure changes, blur, rolling
-  // shutter: real fr1/rpy pairs reach T ~ 1000 where depth is sound), so no threshold helped
-  // on every sequence at hand (docs/results/robust.md).
+  // shutter), so no threshold helped on every sequence at hand (docs/results/robust.md).
   double trust = 1e12;
   // methods joint, robust: the coarsest N levels first solve F_I alone (own t-weights) and
   // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
