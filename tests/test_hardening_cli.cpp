@@ -317,8 +317,19 @@ TEST_F(HardeningCli, ConicOnAFolder) { expect_clear_error(bivo("conic " + q(dir_
 
 // Item 14: one timestamp with two poses was accepted silently.
 TEST_F(HardeningCli, EvalGroundtruthWithOneTimestampTwice) {
-  std::ofstream(dir_ / "gt.txt") << "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n";
-  expect_clear_error(bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "gt.txt")), "gt.txt:3: timestamp 2");
+  // As TUM's evaluate scripts (a dict keyed by stamp): the later pose holds, so an estimate
+  // equal to the ground truth without the earlier pose has zero error.
+  std::ofstream gt(dir_ / "gt.txt"), est(dir_ / "est.txt");
+  for (const char* t : {"0", "0.5", "1", "1.5", "2", "2.5", "3"}) {
+    if (std::string(t) == "1") gt << "1 99 0 0 0 0 0 1\n";
+    gt << t << ' ' << t << " 0 0 0 0 0 1\n";
+    est << t << ' ' << t << " 0 0 0 0 0 1\n";
+  }
+  gt.close();
+  est.close();
+  const BivoRun r = bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "rpe_trans=0 rpe_rot=0 ate=0 pairs=4")) << r.out;
 }
 
 // Found by fuzz_cbf (tests/fuzz/regressions/cbf/var_and_con_1073741824.cbf): a 70-byte CBF

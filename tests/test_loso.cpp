@@ -73,7 +73,7 @@ TEST(Loso, RefusesWhatCannotBeHeldOut) {
   o.parameter = "problem.depth_noise_exponent";
   o.grid = {0.0, 2.0};
   EXPECT_EQ(loso_units(o).size(), 6u);
-  for (double bad : {0.5, 3.0}) {
+  for (double bad : {0.5, 4.0}) {
     o.grid = {0.0, bad};
     EXPECT_THROW(loso_units(o), bivo::Error) << bad;
   }
