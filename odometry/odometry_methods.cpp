@@ -154,7 +154,7 @@ JacobianKind method_jacobian(Method method, JacobianKind requested) {
 
 int method_depth_noise_exponent(Method method, int requested) {
   if (requested >= 0) return requested;
-  return uses_joint_weights(method) ? 2 : 0;
+  return uses_joint_weights(method) ? 3 : 0;
 }
 
 }  // namespace bivo::odometry

@@ -123,9 +123,10 @@ enum class JacobianKind;  // rgbd_problem.h
 JacobianKind method_jacobian(Method method, JacobianKind requested);
 // The depth noise exponent (RgbdProblemOptions::depth_noise_exponent) a method uses when asked
 // for -1 ("auto", the tracker's default); any other request is returned unchanged. joint and
-// robust: 2 (their robust scales assume one noise level for all pixels, which over-trusts far
-// ones; chosen by leave-one-sequence-out, docs/results/robust.md); the others: 0 (the
-// paper's r_D, and the settings their defaults were chosen with).
+// robust: 3 (their robust scales assume one noise level for all pixels, which over-trusts far
+// ones; the real fr3 residual's spread grows as z^3; chosen by leave-one-sequence-out,
+// docs/results/robust.md); the others: 0 (the paper's r_D, the settings their defaults were
+// chosen with).
 int method_depth_noise_exponent(Method method, int requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).

@@ -47,7 +47,7 @@ struct RgbdProblemOptions {
   double max_depth = 10.0;
   double occlusion_margin = 0.1;  // metres: q_z beyond D_2(y) + margin counts as occluded
   // r_D^i divided by (z_i / 1 m)^p, z_i the reference depth: F_D whitened for depth noise
-  // that grows with depth (structured light and stereo: sigma_z ~ z^2, p = 2), so that far
+  // that grows with depth (structured light and stereo: sigma_z ~ z^2 to z^3), so that far
   // pixels, several times noisier, do not count as much as near ones. 0: r_D as defined. -1
   // ("auto", the tracker's default) names the method's own (method_depth_noise_exponent()).
   int depth_noise_exponent = 0;

@@ -55,7 +55,7 @@ TEST(DepthNoiseExponent, DividesEachDepthTermByItsDepthToThePower) {
 TEST(DepthNoiseExponent, AutoIsTwoForTheJointWeightsAndZeroForThePapersMethods) {
   for (const std::string& m : method_names()) {
     const Method method = parse_method(m);
-    EXPECT_EQ(method_depth_noise_exponent(method, -1), uses_joint_weights(method) ? 2 : 0) << m;
+    EXPECT_EQ(method_depth_noise_exponent(method, -1), uses_joint_weights(method) ? 3 : 0) << m;
     EXPECT_EQ(method_depth_noise_exponent(method, 1), 1) << m;  // a request is kept
   }
 }
