@@ -75,10 +75,12 @@ struct PolicyParameters {
   // still moved the estimate (fr1/rpy 1.07x single, 1.03x at 1e-5; docs/odometry.md).
   double joint_tolerance = 1e-5;
   // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
-  // level's bi-objective estimate is rejected for the photometric one. 1e12: never in practice.
-  // T also grows with the photometric model's own errors (exposure changes, blur, rolling
-  // shutter), so no threshold helped on every sequence at hand (docs/results/robust.md).
-  double trust = 1e12;
+  // level's bi-objective estimate is rejected for the photometric one; kTrustOff and above: the
+  // test is off and T is not evaluated. T also grows with the photometric model's own errors
+  // (exposure changes, blur, rolling shutter), so no threshold helped on every sequence at hand
+  // (docs/results/robust.md).
+  static constexpr double kTrustOff = 1e12;
+  double trust = kTrustOff;
   // methods joint, robust: the coarsest N levels first solve F_I alone (own t-weights) and
   // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
   // fall into the depth objective's basin at 80x60; the textureless renderings unchanged).
@@ -89,6 +91,9 @@ struct PolicyParameters {
   // decides. Chosen by leave-one-sequence-out (docs/results/robust.md).
   double robust_kappa = 0.3;
 };
+
+// Method robust evaluates its depth trust test (PolicyParameters::trust below kTrustOff).
+inline bool trust_test_on(const PolicyParameters& p) { return p.trust < PolicyParameters::kTrustOff; }
 
 // Whether the method's per-frame rule reads the frame's medians (FrameStatistics::has_medians
 // must then be set: add_medians()); only tykkala does.

@@ -4,6 +4,7 @@
 // the photometric data reject it, the level is solved again on F_I alone from there. A
 // template over the tracker's way of running a scalarization, as noise_bounded_level.h.
 #include <algorithm>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -19,7 +20,7 @@ namespace bivo::odometry {
 struct RobustLevel {
   solvers::Summary summary;  // of the last stage (iterations: all stages)
   double lambda = 0.0;       // joint's implied lambda at its last step
-  double statistic = 0.0;    // the trust statistic T at the bi-objective estimate
+  double statistic = 0.0;    // the trust statistic T at the bi-objective estimate (NaN: test off)
   bool distrusted = false;   // T > trust: the level ended on F_I alone
 };
 
@@ -46,7 +47,9 @@ RobustLevel solve_robust_level(RgbdOdometryProblem& problem, const PolicyParamet
     out.summary = run(joint, finish);
     iterations += out.summary.iterations;
   }
-  if (!x.allFinite()) {
+  // T costs a linearization with exact gradients: evaluated only when the test is on.
+  if (!x.allFinite() || !trust_test_on(policy)) {
+    out.statistic = std::numeric_limits<double>::quiet_NaN();
     out.summary.iterations = iterations;
     return out;
   }

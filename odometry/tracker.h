@@ -135,7 +135,8 @@ struct LevelResult {
   double correlation = 0.0;     // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
   bool relaxed = false;         // noise-bounded: the guard relaxed the bound (x_I kept)
   double trust = 0.0;           // robust: the depth trust statistic T at the level's bi-objective estimate
-                                // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved)
+                                // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved;
+                                // NaN: the test is off, PolicyParameters::trust)
   double guard_rise = 0.0;      // noise-bounded: (F_I(bounded) - F_I(x_I)) / sigma_I^2, the guard's statistic
   double epsilon = 0.0;         // bounded: epsilon bound on F_D at the last step
   double mu = 0.0;              // bounded: multiplier of the last step (+inf: infeasible)

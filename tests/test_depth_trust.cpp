@@ -151,8 +151,12 @@ TEST(DepthTrust, FiresOnBiasedDepthAndNotOnExactDepth) {
   // The statistic at every level, with the fallback never taken (threshold beyond reach).
   std::vector<std::vector<double>> statistics;
   for (const io::RgbdImage* im : {&p.current, &scaled_image, &bent_image}) {
-    const PairResult never = estimate(p, *im, "robust", 1e300);
+    const PairResult never = estimate(p, *im, "robust", 0.5 * PolicyParameters::kTrustOff);
     EXPECT_EQ(never.relaxed_levels, 0);
+    // Off (the default), T is not evaluated, and evaluating it never moves the estimate.
+    const PairResult off = estimate(p, *im, "robust");
+    EXPECT_TRUE(std::isnan(off.trust));
+    EXPECT_TRUE(off.T_21.matrix() == never.T_21.matrix());
     statistics.emplace_back();
     for (const auto& l : never.levels) statistics.back().push_back(l.trust);
   }
