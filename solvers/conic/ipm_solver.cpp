@@ -363,9 +363,8 @@ IpmResult& Solver::iterate() {
       if (IpmResult* res = polish_exit(v_, strict_, k, false)) return *res;
     }
     if (found != IpmStatus::kMaxIterations) return finish(found, v_, k);
-    // kappa > tau: heading for an infeasibility certificate, no optimum for the polish to find.
     if (r_.primal_residual < st_.polish_from && r_.dual_residual < st_.polish_from &&
-        std::min(r_.gap, r_.relative_gap) < st_.polish_from && v_.kappa <= v_.tau) {
+        std::min(r_.gap, r_.relative_gap) < st_.polish_from) {
       if (IpmResult* res = polish_exit(v_, strict_, k, false)) return *res;
     }
     // Keep the iterate closest to any verdict, for the reduced-accuracy exits.

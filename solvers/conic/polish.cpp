@@ -36,7 +36,8 @@ bool Polisher::set_up() {
   const int nsoc = cones_.soc_count();
   const double n = sp_.num_variables();
   g_work_ = 2.0 * (G_.dense() ? static_cast<double>(G_.rows()) * G_.cols() : G_.sparse().nonZeros());
-  if (!charge(nsoc * (g_work_ + 4.0 * n * n) + 2.0 * static_cast<double>(sp_.A.nonZeros()))) return false;
+  // Each cone reads its own rows of G: one pass over G for all of them.
+  if (!charge(g_work_ + nsoc * 4.0 * n * n + 2.0 * static_cast<double>(sp_.A.nonZeros()))) return false;
   gram_.resize(nsoc);
   head_.resize(nsoc);
   u_.resize(nsoc);
