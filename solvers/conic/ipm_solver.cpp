@@ -90,15 +90,17 @@ class Solver {
     polish_deferred_ = false;
     polish_work_ = 0.0;
     polish_wait_ = 0.0;
-    // The set-up's work outside the KKT system: validation, equilibration, the scaled copies.
-    const double data = static_cast<double>(original.A.nonZeros()) +
-                        static_cast<double>(original.has_dense_G() ? original.dense_G.size() : original.G.nonZeros());
+    // The work of the set-up outside the KKT system: validation, equilibration (a few
+    // sweeps over the data) and the scaled copies.
+    const double data = static_cast<double>(original.A.nonZeros()) + (original.has_dense_G()
+                                                                          ? static_cast<double>(original.dense_G.size())
+                                                                          : static_cast<double>(original.G.nonZeros()));
     g_work_ = 2.0 * (gmat_.dense() ? static_cast<double>(m_) * n_ : static_cast<double>(gmat_.sparse().nonZeros()));
     residual_work_ = 2.0 * g_work_ + 4.0 * static_cast<double>(sp_.A.nonZeros()) + 12.0 * (n_ + p_ + m_);
     work_ = 5000.0 + 8.0 * data + 8.0 * (n_ + p_ + m_);
   }
   // Operations of the interior-point method so far (set-up, iterations), counted from the
-  // patterns: the polish may spend a share of them (polish_exit).
+  // patterns: the polish may spend at most as much (polish_exit).
   double ipm_work() const { return work_ + kkt_.work(); }
 
   IpmResult& iterate();
@@ -299,13 +301,12 @@ IpmResult& Solver::finish(IpmStatus status, const Variables& v, int iterations) 
 
 IpmResult* Solver::polish_exit(const Variables& v, const Tolerances& t, int iterations, bool allow_reduced) {
   if (!st_.polish || !polisher_) return nullptr;  // (a workspace keeps the polisher of earlier solves)
-  // All attempts together cost at most 3/4 of the interior-point method's operations so far
-  // (both count time in models, 0.3-1.3 ns per unit on the public suite: the margin covers
-  // their error), so a rejected polish (a wrong active set, a system too large to pay off) is
-  // never the bulk of a solve. An attempt cut short for its cost waits until the budget has
-  // doubled: attempts cut one after the other would each spend the budget and finish none.
-  constexpr double kPolishShare = 0.75;
-  const double budget = kPolishShare * ipm_work() - polish_work_;
+  // All attempts together cost at most what the interior-point method has cost so far: a
+  // rejected polish (a wrong active set, a system too large to pay off) is never the bulk of
+  // a solve. The smallest attempt factors a dense system of n + p unknowns.
+  // An attempt cut short for its cost waits until the budget has doubled: attempts cut
+  // one after the other would each spend the budget and finish none.
+  const double budget = ipm_work() - polish_work_;
   if (budget < polish_wait_) {
     polish_deferred_ = true;
     return nullptr;
