@@ -3,7 +3,9 @@
 // without the polish. The CBF file is read once, outside the timing; each iteration is a whole
 // solve_conic call (validation, equilibration, KKT set-up, iterations, polish), as a user makes
 // it. Counters: iterations, whether the exit is the manifest's status ("right"), the objective's
-// relative error against the manifest, whether the answer is the polished point.
+// relative error against the manifest, whether the answer is the polished point, the polish's
+// time over the rest of the solve's (polish_share), its attempts, both times per solve
+// (polish_ns, rest_ns) and the operation counts the polish's budget compares (polish_ops, ipm_ops).
 // benchmarks/conic_suite_vs_cvxopt.py runs them next to CVXOPT and prints the table.
 #include <cmath>
 #include <cstdio>
@@ -38,11 +40,21 @@ void solve_case(benchmark::State& state, const SuiteCase& c, bool polish) {
   IpmSettings settings;
   settings.polish = polish;
   IpmResult r;
+  double polish_seconds = 0.0, seconds = 0.0;
   for (auto _ : state) {
     r = solve_conic(c.cbf->problem, settings);
     benchmark::DoNotOptimize(r.x.data());
+    polish_seconds += r.timings[IpmPhase::kPolish];
+    seconds += r.seconds;
   }
   state.counters["iterations"] = r.iterations;
+  // The polish's time over the rest of the solve (set-up and iterations), all runs together.
+  state.counters["polish_share"] = seconds > polish_seconds ? polish_seconds / (seconds - polish_seconds) : 0.0;
+  state.counters["polish_attempts"] = r.timings.polish_attempts;
+  state.counters["polish_ns"] = 1e9 * polish_seconds / static_cast<double>(state.iterations());
+  state.counters["rest_ns"] = 1e9 * (seconds - polish_seconds) / static_cast<double>(state.iterations());
+  state.counters["polish_ops"] = r.timings.polish_operations;
+  state.counters["ipm_ops"] = r.timings.ipm_operations;
   state.counters["right"] = right_status(r, c.status);
   state.counters["reduced_accuracy"] = r.reduced_accuracy;
   state.counters["polished"] = r.polished;

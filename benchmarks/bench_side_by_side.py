@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Two builds of bivo_bench side by side: the same cases, run in turn (A, B, A, B, ...) so a
 shared machine's drift hits both alike; prints per case the median CPU time per solve of each
-and the ratio B/A. Quote the ratios: the absolute figures move with the machine's load.
+and the ratio B/A, then each build's median over its cases under 1 ms. Quote the ratios: the
+absolute figures move with the machine's load.
 
   benchmarks/bench_side_by_side.py --a OLD/bivo_bench --b NEW/bivo_bench
                                    [--filter 'BM_Conic(Small|Huber)'] [--rounds 3] [--repetitions 5]
@@ -48,6 +49,11 @@ def main():
             continue
         ma, mb = statistics.median(a[name]), statistics.median(b[name])
         print("| %s | %.4f | %.4f | %.3f |" % (name, 1e3 * ma, 1e3 * mb, mb / ma))
+    for label, acc in (("A", a), ("B", b)):
+        small = [statistics.median(t) for t in acc.values() if statistics.median(t) < 1e-3]
+        if small:
+            print("%s: median ms/solve over its %d cases under 1 ms: %.4f" % (label, len(small),
+                                                                           1e3 * statistics.median(small)))
     return 0
 
 

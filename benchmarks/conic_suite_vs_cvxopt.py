@@ -5,8 +5,9 @@ Runs bivo_bench's BM_ConicSuite cases (each iteration a whole solve_conic call o
 once: set-up excluded) and CVXOPT's conelp (Debian python3-cvxopt) on the same data (matrices
 built once outside the timing), each solve repeated; reports per problem the median CPU time
 of a solve, the exit of each solver against the manifest, the ratio CVXOPT time / bivo time,
-the geometric mean of that ratio over the problems both answer right, and the median bivo time
-per solve over the problems bivo solves in under 1 ms. Both run single-threaded (BLAS threads
+the geometric mean of that ratio over the problems both answer right, the median bivo time
+per solve over the problems bivo solves in under 1 ms, and the polish's time over the rest of
+the solve's (set-up and iterations; "rejected" when the answer is not the polished point). Both run single-threaded (BLAS threads
 set to 1) at the same tolerances (1e-8 absolute, relative and feasibility).
 
   benchmarks/conic_suite_vs_cvxopt.py [--bench build/benchmarks/bivo_bench] [--repetitions 5]
@@ -44,6 +45,8 @@ def bivo_times(bench, repetitions, filt, min_time):
         out[(problem, kind == "BM_ConicSuite")] = {
             "ms": statistics.median(b["cpu_time"] for b in bs) / 1e3,  # microseconds -> ms
             "iterations": int(last["iterations"]), "right": bool(last["right"]),
+            "polish_share": statistics.median(b.get("polish_share", 0.0) for b in bs),
+            "polished": bool(last.get("polished", 0)),
             "exit": last.get("label", ""), "objective_error": last.get("objective_error")}
     return out
 
@@ -92,15 +95,17 @@ def main():
         expected = e["status"] + ("" if e.get("well_posed", True) else " (ill-posed)")
         rows.append({"name": e["name"], "size": e["size"], "expected": expected, "bivo_ms": b["ms"],
                      "bivo_no_polish_ms": bn["ms"], "iterations": b["iterations"], "bivo_exit": b["exit"],
+                     "polish_share": b["polish_share"], "polished": b["polished"],
                      "bivo_right": b["right"], "bivo_no_polish_right": bn["right"],
                      "bivo_objective_error": b["objective_error"], "cvxopt_ms": cv["ms"],
                      "cvxopt_status": cv["status"], "cvxopt_right": cv["right"],
                      "ratio": cv["ms"] / b["ms"] if b["ms"] > 0 else None})
-    lines = ["| problem | size | expected | bivo ms | no polish ms | iter. | bivo exit | CVXOPT ms | CVXOPT exit "
-             "| CVXOPT/bivo |", "|---|---|---|---:|---:|---:|---|---:|---|---:|"]
+    lines = ["| problem | size | expected | bivo ms | no polish ms | polish/rest | iter. | bivo exit | CVXOPT ms "
+             "| CVXOPT exit | CVXOPT/bivo |", "|---|---|---|---:|---:|---:|---:|---|---:|---|---:|"]
     for r in rows:
-        lines.append("| %s | %s | %s | %.3f | %.3f | %d | %s%s | %.3f | %s%s | %.2f |" % (
-            r["name"], r["size"], r["expected"], r["bivo_ms"], r["bivo_no_polish_ms"], r["iterations"],
+        lines.append("| %s | %s | %s | %.3f | %.3f | %.2f%s | %d | %s%s | %.3f | %s%s | %.2f |" % (
+            r["name"], r["size"], r["expected"], r["bivo_ms"], r["bivo_no_polish_ms"], r["polish_share"],
+            "" if r["polished"] else " (rejected)", r["iterations"],
             r["bivo_exit"], "" if r["bivo_right"] else " **WRONG**", r["cvxopt_ms"], r["cvxopt_status"],
             "" if r["cvxopt_right"] else " (wrong)", r["ratio"]))
     both = [r for r in rows if r["bivo_right"] and r["cvxopt_right"]]
@@ -118,6 +123,10 @@ def main():
         "median bivo time per solve over all problems: %.4f ms; CVXOPT: %.4f ms" % (
             statistics.median(r["bivo_ms"] for r in rows), statistics.median(r["cvxopt_ms"] for r in rows)),
     ]
+    worst = max(rows, key=lambda r: r["polish_share"])
+    summary.append("largest polish time / rest of the solve's time: %.2f (%s, %s); above 1 on %d problems" % (
+        worst["polish_share"], worst["name"], "polished" if worst["polished"] else "polish rejected",
+        sum(r["polish_share"] > 1.0 for r in rows)))
     text = "\n".join(lines + [""] + summary) + "\n"
     print(text)
     if a.markdown:

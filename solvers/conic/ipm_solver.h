@@ -60,7 +60,7 @@ struct IpmSettings {
   double full_refinement_from = 1e-4;
   std::ostream* log = nullptr;  // per-iteration log when set
   // Seconds by phase in IpmResult::timings (the counters are kept either way); off, only
-  // the total is timed.
+  // the total and the polish are timed.
   bool time_phases = false;
 };
 

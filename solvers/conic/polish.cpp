@@ -8,9 +8,24 @@
 
 namespace bivo::solvers::conic {
 
+namespace {
+
 // Fixed costs in operations (the work counts' unit, about a nanosecond each on small
 // systems): a call (its vectors, the classification) and a Newton step (the LU's set-up).
 constexpr double kCallWork = 2000.0, kStepWork = 800.0;
+
+// Partial-pivoting LU of a K x K matrix: 2/3 K^3 operations, blocked and vectorized. Charged
+// K^3 / 3 (plus 2 K^2 and kStepWork at the call): above its measured time at every K from 4 to
+// 128 in the unit the KKT system's counts run at (0.5-1 ns).
+double lu_work(int K) { return static_cast<double>(K) * K * K / 3.0; }
+
+// M = [H B^T; B 0] with B of r x n: with more rows than columns (a degenerate vertex, or a
+// wrong guess) M is singular whatever the values. (With fewer rows and no boundary cones it
+// is singular too, but Newton from the iterate may still reach a point of a non-vertex
+// optimal face: such a guess is tried.)
+bool singular_shape(int n, int r) { return r > n; }
+
+}  // namespace
 
 Polisher::Polisher(const ConicProblem& problem, const ConstraintMatrix& G, const ConeProduct& cones,
                    PolishSettings settings)
@@ -21,7 +36,8 @@ bool Polisher::set_up() {
   const int nsoc = cones_.soc_count();
   const double n = sp_.num_variables();
   g_work_ = 2.0 * (G_.dense() ? static_cast<double>(G_.rows()) * G_.cols() : G_.sparse().nonZeros());
-  if (!charge(nsoc * (g_work_ + 4.0 * n * n) + 2.0 * static_cast<double>(sp_.A.nonZeros()))) return false;
+  // Each cone reads its own rows of G: one pass over G for all of them.
+  if (!charge(g_work_ + nsoc * 4.0 * n * n + 2.0 * static_cast<double>(sp_.A.nonZeros()))) return false;
   gram_.resize(nsoc);
   head_.resize(nsoc);
   u_.resize(nsoc);
@@ -201,7 +217,8 @@ double Polisher::evaluate(const Eigen::VectorXd& uu, bool quadratic, Eigen::Vect
 bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double& merit, int& steps) {
   const int n = sp_.num_variables(), p = sp_.num_equalities();
   const int nb = static_cast<int>(boundary_.size()), na = static_cast<int>(apex_rows_.size());
-  const int N = n + p + nb + na;
+  const int N = n + p + nb + na, r = N - n;
+  if (singular_shape(n, r)) return false;
   if (!charge(evaluation_work(quadratic))) return false;
   merit = evaluate(u, quadratic, s_, a_, F_);
   // Far from the solution, steps must decrease the weighted 2-norm of F (weights fixed at the
@@ -211,33 +228,57 @@ bool Polisher::newton(Eigen::VectorXd& u, bool quadratic, int max_steps, double&
   for (int b = 0; b < nb; ++b) weight[n + p + b] = 1.0 / psi_scale_[b];
   weight.tail(na).setConstant(1.0 / norm_h_);
   double norm2 = F_.cwiseProduct(weight).squaredNorm();
-  Eigen::VectorXd trial(N);
+  Eigen::VectorXd trial(N), du(N);
+  // M = [H B^T; B 0] with B = [A; a^T; G_apex] of r rows. With B square (a vertex: as many
+  // active constraints as variables) B dx = F2 fixes dx and B^T dw = F1 - H dx the rest, so
+  // only B is factored, an eighth of M's operations.
+  const bool square = r == n;
   for (steps = 0; std::isfinite(merit) && merit > 1e-15 && steps < max_steps;) {
     // Without boundary cones the matrix is the guess's constant one (A, the apex rows of G):
     // factored once per guess (an LP's polish: one factorization for both stages).
     if (nb > 0 || !lu_current_) {
-      M_.setZero(N, N);
-      for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
-      if (p > 0) {
-        M_.block(0, n, n, p) = At_;
-        M_.block(n, 0, p, n) = At_.transpose();
+      const int K = square ? n : N;
+      if (square) {
+        B_.resize(n, n);
+        if (p > 0) B_.topRows(p) = At_.transpose();
+        B_.middleRows(p, nb) = a_.transpose();
+        if (na > 0) B_.bottomRows(na) = Ga_;
+      } else {
+        M_.setZero(N, N);
+        for (int b = 0; b < nb; ++b) M_.topLeftCorner(n, n) += u[n + p + b] * gram_[boundary_[b]];
+        if (p > 0) {
+          M_.block(0, n, n, p) = At_;
+          M_.block(n, 0, p, n) = At_.transpose();
+        }
+        M_.block(0, n + p, n, nb) = a_;
+        M_.block(n + p, 0, nb, n) = a_.transpose();
+        if (na > 0) {
+          M_.block(0, n + p + nb, n, na) = Ga_.transpose();
+          M_.block(n + p + nb, 0, na, n) = Ga_;
+        }
       }
-      M_.block(0, n + p, n, nb) = a_;
-      M_.block(n + p, 0, nb, n) = a_.transpose();
-      if (na > 0) {
-        M_.block(0, n + p + nb, n, na) = Ga_.transpose();
-        M_.block(n + p + nb, 0, na, n) = Ga_;
-      }
-      // Full-pivoting LU: 2/3 N^3 operations and the pivot search, vectorized (measured: about
-      // N^3 / 2 of the unit the KKT system's counts run at).
-      if (!charge(kStepWork + 0.5 * N * N * N + 2.0 * nb * n * n + 2.0 * N * N)) return false;
-      lu_.compute(M_);
+      if (!charge(kStepWork + lu_work(K) + 2.0 * nb * n * n + 2.0 * K * K)) return false;
+      lu_.compute(square ? B_ : M_);
       lu_current_ = nb == 0;
+      // Partial pivoting reveals no rank; a pivot at rounding level next to the largest
+      // says singular as full pivoting's threshold would (a near-singular guess is refused
+      // downstream anyway: its step does not lower the merit).
+      const auto pivots = lu_.matrixLU().diagonal().cwiseAbs();
+      lu_invertible_ =
+          pivots.allFinite() && pivots.minCoeff() > Eigen::NumTraits<double>::epsilon() * K * pivots.maxCoeff();
     } else if (!charge(kStepWork / 4 + 2.0 * N * N)) {
       return false;
     }
-    if (!lu_.isInvertible()) return false;
-    const Eigen::VectorXd du = lu_.solve(F_);
+    if (!lu_invertible_) return false;
+    if (square) {
+      if (!charge(4.0 * n * n + 2.0 * nb * n * n)) return false;
+      du.head(n) = lu_.solve(F_.tail(r));
+      Eigen::VectorXd g = F_.head(n);
+      for (int b = 0; b < nb; ++b) g.noalias() -= u[n + p + b] * (gram_[boundary_[b]] * du.head(n));
+      du.tail(r) = lu_.transpose().solve(g);
+    } else {
+      du = lu_.solve(F_);
+    }
     const bool near = merit < 1e-8;
     bool accepted = false;
     double t = 1.0, taken = 0.0;
@@ -321,7 +362,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
   const int n = sp_.num_variables(), p = sp_.num_equalities(), m = sp_.num_cone_rows();
   int nb = static_cast<int>(boundary_.size());
   const int na = static_cast<int>(apex_rows_.size());
-  if (n + p + nb + na > settings_.max_system_size) return false;
+  if (n + p + nb + na > settings_.max_system_size || singular_shape(n, p + nb + na)) return false;
   if (!set_up()) return false;
 
   // Unknowns u = (x, y, lambda, z_apex), started from the iterate.

@@ -115,9 +115,10 @@ class Polisher {
   Eigen::VectorXd s0_, z0_;                            // the iterate's (s, z) / tau
   Eigen::VectorXd psi_scale_;                          // per boundary cone: the merit's normalization of psi
   Eigen::VectorXd s_, F_, s_trial_, F_trial_, js_;     // evaluation buffers (current point, trial)
-  Eigen::MatrixXd a_, a_trial_, M_;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu_;  // of M_
-  bool lu_current_ = false;               // lu_ is the current guess's (no boundary cones)
+  Eigen::MatrixXd a_, a_trial_, M_, B_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;  // of M_, or of B_ when that is square (polish.cpp)
+  bool lu_current_ = false;                  // lu_ is the current guess's (no boundary cones)
+  bool lu_invertible_ = false;
   std::vector<Kind> orthant_kind_, soc_kind_;
   std::vector<int> apex_rows_;            // rows of G whose s is fixed at 0
   std::vector<int> boundary_;             // SOC indices with kind kBoundary
