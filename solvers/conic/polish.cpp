@@ -383,7 +383,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
   // switch and Newton goes on from there, a primal active-set step at no cost in passes.
   double merit = 0.0;
   int steps = 0;
-  for (int round = 0;; ++round) {
+  for (int attempt = 0;; ++attempt) {
     // Each guess once per polish call (the first guesses and the switched ones overlap).
     std::vector<Kind> key = soc_kind_;
     key.insert(key.end(), orthant_kind_.begin(), orthant_kind_.end());
@@ -393,7 +393,7 @@ bool Polisher::solve_guess(const Variables& v, const Eigen::VectorXd& s0, const 
     newton_steps_ += steps;
     if (!(merit < 1e-8)) return false;  // not converged: no verdict on this guess
     if (consistent(u)) break;
-    if (round >= settings_.max_switches) return false;
+    if (attempt >= settings_.max_switches) return false;
     if (!relayout(u)) return false;
     nb = static_cast<int>(boundary_.size());
     if (n + p + nb + na > settings_.max_system_size) return false;
