@@ -13,8 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "odometry/synth/sequence.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::contains;
@@ -32,37 +31,11 @@ std::string last_line(const std::string& text) {
   return nl == std::string::npos ? t : t.substr(nl + 1);
 }
 
-class StudyOutcomes : public ::testing::Test {
+class StudyOutcomes : public bivo::testing::CliSuite {
  protected:
   // Two renderings of one category with different seeds: same folder name, in syn1/ and syn2/.
-  static void SetUpTestSuite() {
-    root_ = fs::temp_directory_path() / ("bivo_study_outcomes_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    for (int seed : {1, 2}) {
-      odometry::synth::SynthOptions o;
-      o.category = odometry::synth::parse_category("structure_texture_near");
-      o.frames = 10;
-      o.seed = seed;
-      o.render.supersampling = 1;
-      const fs::path dir = root_ / ("syn" + std::to_string(seed));
-      fs::create_directories(dir);
-      sequences_.push_back(odometry::synth::render_sequence(o, dir.string()));
-    }
-  }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  void SetUp() override {
-    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
-  static std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-  BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, dir_.string()); }
-
-  static fs::path root_;
-  static std::vector<std::string> sequences_;
-  fs::path dir_;
+  static void SetUpTestSuite() { render_suite("bivo_study_outcomes", {{"syn1", 10, 1}, {"syn2", 10, 2}}); }
 };
-fs::path StudyOutcomes::root_;
-std::vector<std::string> StudyOutcomes::sequences_;
 
 }  // namespace
 

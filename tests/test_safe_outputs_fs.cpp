@@ -14,11 +14,12 @@
 
 #include "experiments/study/study.h"
 #include "experiments/study/study_work.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::BivoRun;
 using bivo::testing::contains;
+using bivo::testing::expect_clear_error;
 using bivo::testing::slurp;
 
 namespace {
@@ -51,11 +52,6 @@ class SafeFs : public ::testing::Test {
     return bivo::testing::run_bivo_in("--help >/dev/null 2>&1; trap '' XFSZ; ulimit -f " + std::to_string(blocks) +
                                           "; exec '" + BIVO_BINARY + "' " + args,
                                       scratch().string());
-  }
-  static void expect_clear_error(const BivoRun& r, const std::string& part) {
-    EXPECT_EQ(r.status, 1) << r.err;
-    EXPECT_TRUE(contains(r.err, part)) << r.err;
-    EXPECT_FALSE(contains(r.err, "internal error")) << r.err;
   }
   // A tmpfs at `at` with mount options `options`; false when this process may not mount.
   bool mount_tmpfs(const fs::path& at, const std::string& options) {
