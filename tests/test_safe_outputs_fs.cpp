@@ -272,14 +272,15 @@ TEST_F(SafeFs, RunOutputHardLinkedToTheGroundTruth) {
 }
 
 // `table --config out/config.json --output out` replaced its own configuration with the one it
-// wrote; a merge into the folder of its study file replaced the study.json it was reading.
+// wrote; a merge into the folder of its study file replaced the study.json it was reading
+// (both refused before any work: test_output_collisions.cpp).
 TEST_F(SafeFs, OutputsNeverReplaceTheFilesTheyRead) {
   fs::create_directories(dir() / "out");
   const std::string config = "{\"method\": \"single\", \"levels\": 2}\n";
   std::ofstream(dir() / "out" / "config.json") << config;
   const BivoRun t = bivo("table --sequences " + q(sequence_) + " --config " + q(dir() / "out" / "config.json") +
                          " --output " + q(dir() / "out"));
-  expect_clear_error(t, "it is an input of this run");
+  expect_clear_error(t, "lies in --output");
   EXPECT_EQ(slurp(dir() / "out" / "config.json"), config);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir() / "out"), fs::directory_iterator()), 1);
 
@@ -292,7 +293,7 @@ TEST_F(SafeFs, OutputsNeverReplaceTheFilesTheyRead) {
   ASSERT_EQ(bivo("work " + q(study)).status, 0);
   const std::string planned = slurp(study);
   const BivoRun m = bivo("merge " + q(study));
-  expect_clear_error(m, "refusing to write '" + study.string() + "': it is an input of this run");
+  expect_clear_error(m, "the study '" + study.string() + "', an input of this command, lies in --output");
   EXPECT_EQ(slurp(study), planned);
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(study.parent_path())) left.push_back(e.path().filename().string());

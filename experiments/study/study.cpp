@@ -113,6 +113,17 @@ void check_loso(const LosoOptions& o) {
 
 }  // namespace
 
+std::vector<std::string> study_sequences(const Study& s) {
+  std::vector<std::string> out;
+  if (s.table) out.insert(out.end(), s.table->sequences.begin(), s.table->sequences.end());
+  if (s.sweep) out.insert(out.end(), s.sweep->sequences.begin(), s.sweep->sequences.end());
+  if (s.pareto) {
+    for (const auto& p : s.pareto->pairs) out.push_back(p.sequence_dir);
+  }
+  if (s.loso) out.insert(out.end(), s.loso->sequences.begin(), s.loso->sequences.end());
+  return out;
+}
+
 std::string method_spec_text(const MethodSpec& spec) {
   return spec.backend.empty() ? spec.method : spec.method + ":" + spec.backend;
 }

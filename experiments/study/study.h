@@ -75,6 +75,9 @@ struct Study {
 // option or a grid value outside its range).
 void check_study(const Study& study);
 
+// Every sequence folder the study reads, in part order (repeats possible).
+std::vector<std::string> study_sequences(const Study& study);
+
 // "bounded:ipm-full" / "single": the inverse of parse_method_spec.
 std::string method_spec_text(const MethodSpec& spec);
 
