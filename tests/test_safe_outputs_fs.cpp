@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "experiments/study/study.h"
 #include "experiments/study/study_work.h"
@@ -246,6 +247,23 @@ TEST_F(SafeFs, HandEditedStudyFailsItsHash) {
     expect_clear_error(bivo(command + q(study)), study.string() + ": the study was changed after it was planned");
   }
   EXPECT_FALSE(fs::exists(dir() / "st.results"));
+}
+
+// A study file without a hash (as an older bivo wrote them) ran unchecked.
+TEST_F(SafeFs, StudyWithoutAHashIsRefused) {
+  const fs::path study = plan("st", 2);
+  nlohmann::json j = nlohmann::json::parse(slurp(study));
+  ASSERT_EQ(j.erase("study_hash"), 1u);
+  const std::string text = j.dump(2);
+  std::ofstream(study) << text;
+  for (const char* command : {"work ", "merge "}) {
+    const BivoRun r = bivo(command + q(study));
+    expect_clear_error(r, study.string() + ": the study has no study_hash");
+    EXPECT_TRUE(contains(r.err, "plan it again with `bivo plan`")) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir() / "st.results"));
+  EXPECT_FALSE(fs::exists(dir() / "st.out"));
+  EXPECT_EQ(slurp(study), text);
 }
 
 // VAR 2^30 in a CBF file under --max-conic-size 2^30: std::bad_alloc ("internal error").

@@ -171,6 +171,7 @@ json study_to_json(const Study& s) {
   j["seed"] = s.seed;
   j["plots"] = s.plots;
   if (s.report) j["report"] = {{"title", s.report->title}, {"preamble", s.report->preamble}};
+  j["study_hash"] = study_hash(s);
   return j;
 }
 
@@ -260,8 +261,13 @@ Study study_from_json(const json& j, const std::string& where) {
     throw Error(where + ": " + e.what());
   }
   // The hash `bivo plan` recorded: an edit by hand (max_frames, a method) would otherwise mix
-  // results of two different studies under one name.
-  if (recorded_hash && (!recorded_hash->is_string() || recorded_hash->get<std::string>() != study_hash(s))) {
+  // results of two different studies under one name. A file without one cannot be checked.
+  if (!recorded_hash) {
+    throw Error(where +
+                ": the study has no study_hash, so edits since it was planned cannot be detected (written "
+                "by an older bivo?); plan it again with `bivo plan`");
+  }
+  if (!recorded_hash->is_string() || recorded_hash->get<std::string>() != study_hash(s)) {
     throw Error(where + ": the study was changed after it was planned (its hash is " + study_hash(s) + ", recorded " +
                 recorded_hash->dump() + "); plan it again with `bivo plan`");
   }
@@ -274,8 +280,7 @@ Study read_study(const std::string& path) {
 
 void write_study(const std::string& path, const Study& study) {
   check_study(study);
-  json j = study_to_json(study);
-  j["study_hash"] = study_hash(study);
+  const json j = study_to_json(study);
   const std::string text = j.dump(2) + "\n";
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }

@@ -13,6 +13,7 @@
 // The study file (JSON) is strict like tracker_config.h (an unknown key is an error naming
 // its path); the tracker options are tracker_config's JSON, bit-exact:
 //   {"format": "bivo-study", "version": 1, "kind": "report", "output": "/abs/report",
+//    "study_hash": "<study_hash>" (required: edits after planning are refused),
 //    "seed": 1, "plots": true, "tracker": {...tracker_config...},
 //    "table": {"sequences": [...], "methods": ["single", "bounded:ipm-full"],
 //              "first_frame": 0, "max_frames": -1},
