@@ -77,7 +77,8 @@ bool is_folder(const std::string& path) {
 // Refuses an output folder that is an input folder or lies in one, or that holds an input file.
 void check_folder_against_inputs(const NamedPath& out, const std::vector<NamedPath>& inputs) {
   for (const NamedPath& in : inputs) {
-    if (in.path.empty()) continue;
+    std::error_code ec;
+    if (in.path.empty() || !fs::exists(in.path, ec)) continue;  // nothing there to overwrite
     if (is_folder(in.path)) {
       if (lies_in(out.path, in.path)) {
         throw Error(out.role + " '" + out.path + "' " + (same_file(out.path, in.path) ? "is" : "lies in") + " " +
