@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <tuple>
 
 #include <gtest/gtest.h>
@@ -255,14 +256,32 @@ TEST(HardeningTrajectory, QuaternionComponents1e200) {
   EXPECT_LT((t[1].T_wc.linear() - Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal())).norm(), 1e-12);
 }
 
-TEST(HardeningTrajectory, EqualTimestampsWithConflictingPoses) {
-  const std::string conflict = write_text("conflict.txt", "# gt\n1 0 0 0 0 0 0 1\n1 5 0 0 0 0 0 1\n");
-  const std::string msg = error_of([&] { odometry::io::read_tum_trajectory(conflict); });
-  EXPECT_TRUE(contains(msg, "conflict.txt:3")) << msg;
-  EXPECT_TRUE(contains(msg, "repeats line 2")) << msg;
-  // The same pose twice is dropped, leaving strictly increasing stamps.
+TEST(HardeningTrajectory, EqualTimestampsKeepTheLaterPoseAsTumTools) {
+  // TUM's evaluate scripts key poses by stamp in a dict: the later line wins.
+  const std::string conflict = write_text("conflict.txt", "# gt\n1 0 0 0 0 0 0 1\n1 5 0 0 0 0 0 1\n2 6 0 0 0 0 0 1\n");
+  const auto t = odometry::io::read_tum_trajectory(conflict);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].T_wc.translation().x(), 5.0);
+  EXPECT_EQ(t[1].timestamp, 2.0);
   const std::string repeat = write_text("repeat.txt", "1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n");
   EXPECT_EQ(odometry::io::read_tum_trajectory(repeat).size(), 2u);
+  // Earlier stamps after later ones are still refused.
+  const std::string unsorted = write_text("unsorted.txt", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n");
+  EXPECT_TRUE(contains(error_of([&] { odometry::io::read_tum_trajectory(unsorted); }), "unsorted.txt:2"));
+}
+
+TEST(HardeningTrajectory, RealFreiburg2GroundTruthWithRepeatedStamps) {
+  const std::string gt = std::string(BIVO_SHARED_DIR) + "/data/trajectories/rgbd_dataset_freiburg2_xyz-groundtruth.txt";
+  if (!std::filesystem::exists(gt)) GTEST_SKIP() << "shared data absent: " << gt;
+  // Oracle: the distinct stamps of the file, counted here independently of the reader.
+  std::ifstream in(gt);
+  std::set<std::string> stamps;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') stamps.insert(line.substr(0, line.find(' ')));
+  }
+  const auto t = odometry::io::read_tum_trajectory(gt);
+  EXPECT_EQ(t.size(), stamps.size());
+  for (std::size_t k = 1; k < t.size(); ++k) ASSERT_LT(t[k - 1].timestamp, t[k].timestamp);
 }
 
 // Item 4: outputs were renamed over whatever the path named.

@@ -296,7 +296,7 @@ TEST(SynthDefects, RetimedMotionCoversTheSameMotionInFewerFrames) {
 
 TEST(SynthDefects, StressSetCrossesDefectsWithStructureAndTexture) {
   const auto set = synth::stress_set(5);
-  ASSERT_EQ(set.size(), 8u);
+  ASSERT_EQ(set.size(), 11u);
   int structure = 0, texture = 0, fast = 0;
   for (const auto& s : set) {
     EXPECT_TRUE(s.options.render.defects.depth_bias() && s.options.render.defects.misregistered());
@@ -331,8 +331,8 @@ TEST(SynthDefects, StressSetCrossesDefectsWithStructureAndTexture) {
       EXPECT_TRUE(s.options.render.defects.timed_colour());
     }
   }
-  EXPECT_EQ(structure, 4);
-  EXPECT_EQ(texture, 4);
+  EXPECT_EQ(structure, 6);  // the crossing's 4 and two extra textured deep views
+  EXPECT_EQ(texture, 7);
   EXPECT_EQ(fast, 4);
   synth::SynthOptions o;
   EXPECT_THROW(synth::apply_stress_profile("shallow", o), bivo::Error);

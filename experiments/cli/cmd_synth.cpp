@@ -214,7 +214,7 @@ void add_synth_command(CLI::App& app) {
                 "render the fixed benchmark set: all 8 categories, 300 frames each along real fr3 motion, fixed "
                 "seeds (byte-identical everywhere); needs --trajectories");
   cmd->add_flag("--stress-set", args->stress_set,
-                "render the stress set: 8 sequences with real sensor defects (biased, misregistered, "
+                "render the stress set: 11 sequences with real sensor defects (biased, misregistered, "
                 "unsynchronized depth, rolling shutter, blur, gain, vignetting, far background, fast motion); "
                 "needs --trajectories; --frames shortens it, --category renders the names containing it");
   cmd->add_option(

@@ -119,7 +119,7 @@ struct ShardSpec {
 ShardSpec parse_shard(const std::string& text);
 
 // The units of shard I of N: the units are permuted by the study's seed (SplitMix64 +
-// Fisher-Yates, the same on every machine) and dealt round-robin, so shards are disjoint,
+// Fisher-Yates, the same on every machine) and dealt in turn, so shards are disjoint,
 // cover every unit, and mix cheap and expensive kinds of unit.
 std::vector<StudyUnit> shard_units(const Study& study, const ShardSpec& shard);
 

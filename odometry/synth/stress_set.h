@@ -6,7 +6,8 @@
 //   for (const synth::StressSequence& s : synth::stress_set()) { ... s.options ... }
 //   auto dirs = synth::render_stress_set("../shared/data/trajectories", "/work/stressset");
 //
-// Two defect profiles x structure/nostructure x texture/notexture = 8 sequences:
+// Two defect profiles x structure/nostructure x texture/notexture = 8 sequences, and three
+// more textured deep views along other real motions (11 in all):
 //  * deep: far background (median depth ~2.5-3 m, much beyond 3 m), biased and misregistered
 //    unsynchronized depth, vignetting and auto-exposure, real fr3 motion;
 //  * fast: generated shaking motion of ~6 deg and ~4 cm per frame, rolling shutter and motion
@@ -26,7 +27,7 @@ struct StressSequence {
   SynthOptions options;    // everything the sequence is rendered with (frames = kStressFrames)
 };
 
-// The 8 sequences, deep first; `frames` overrides kStressFrames (short sets for tests).
+// The 11 sequences, deep first; `frames` overrides kStressFrames (short sets for tests).
 std::vector<StressSequence> stress_set(int frames = kStressFrames);
 
 // The defects both profiles share (values and sources: docs/synthetic.md).

@@ -187,12 +187,12 @@ class CeresBackend final : public WholeProblemBackend {
     const int n2 = static_cast<int>(problem.residuals(2, x, false).r.size());
 
     int budget = options.max_iterations;
-    int rounds = 0;
+    int passes_run = 0;
     summary.termination = TerminationReason::kMaxIterations;
     summary.message = "reached max_iterations = " + std::to_string(options.max_iterations);
     ceres::Solver::Summary cs;
-    for (int round = 0; budget > 0; ++round) {  // every round spends >= 1 of the budget
-      if (round > 0) {
+    for (int pass = 0; budget > 0; ++pass) {  // every pass spends >= 1 of the budget
+      if (pass > 0) {
         lin = problem.linearize(x, lo);
         if (!lin.f1.b.allFinite() || !lin.f2.b.allFinite() || !std::isfinite(lin.f1.a) || !std::isfinite(lin.f2.a)) {
           summary.termination = TerminationReason::kNumericalFailure;
@@ -202,7 +202,7 @@ class CeresBackend final : public WholeProblemBackend {
         lambda = ws->lambda_for(lin);
       }
       summary.multiplier = lambda;
-      ++rounds;
+      ++passes_run;
       std::vector<double> param(x.data(), x.data() + x.size());
       ceres::Problem::Options po;
       po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -252,10 +252,10 @@ class CeresBackend final : public WholeProblemBackend {
       }
       if (cs.termination_type == ceres::NO_CONVERGENCE) continue;  // budget decides
       const bool no_decrease = cs.initial_cost - cs.final_cost <= options.relative_decrease_tolerance * cs.initial_cost;
-      if (round > 0 && (moved < options.step_tolerance || no_decrease)) {
+      if (pass > 0 && (moved < options.step_tolerance || no_decrease)) {
         summary.termination =
             moved < options.step_tolerance ? TerminationReason::kStepTolerance : TerminationReason::kRelativeDecrease;
-        summary.message = std::to_string(rounds) + " weight passes; last: " + cs.message;
+        summary.message = std::to_string(passes_run) + " weight passes; last: " + cs.message;
         break;
       }
     }

@@ -187,8 +187,8 @@ class IpoptNlpBackend final : public WholeProblemBackend {
     int budget = std::max(1, options.max_iterations);
     double first_move = -1.0;
     bool last_feasible = true;
-    for (int round = 0; budget > 0 && round < 20; ++round) {
-      const auto t_round = std::chrono::steady_clock::now();
+    for (int pass = 0; budget > 0 && pass < 20; ++pass) {
+      const auto t_pass = std::chrono::steady_clock::now();
       const Linearization lin = problem.linearize(x, lo);
       validate_linearization(lin, m.tangent_dim());
       const double epsilon = ec->epsilon_for(lin);
@@ -259,7 +259,7 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       last_feasible = !infeasible;
 
       IterationRecord rec;
-      rec.iteration = round + 1;
+      rec.iteration = pass + 1;
       rec.f1 = f_new[0];
       rec.f2 = f_new[1];
       rec.multiplier = summary.multiplier;
@@ -268,7 +268,7 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       rec.accepted = true;
       rec.feasible = !infeasible;
       rec.inner_iterations = used;
-      rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_round).count();
+      rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_pass).count();
       rec.x = x;
       summary.records.push_back(rec);
       if (options.verbosity > 0) {
@@ -291,9 +291,9 @@ class IpoptNlpBackend final : public WholeProblemBackend {
       }
       if (st == Ipopt::MAXITER_EXCEEDED) continue;  // the budget decides
       if (first_move < 0.0) first_move = moved;
-      if (round > 0 && moved <= std::max(options.step_tolerance, 1e-7 * (1.0 + first_move))) {
+      if (pass > 0 && moved <= std::max(options.step_tolerance, 1e-7 * (1.0 + first_move))) {
         summary.termination = TerminationReason::kStepTolerance;
-        summary.message = std::to_string(round + 1) + " passes; Ipopt " + ipopt_status_name(st) +
+        summary.message = std::to_string(pass + 1) + " passes; Ipopt " + ipopt_status_name(st) +
                           "; last pass moved x by " + std::to_string(moved);
         break;
       }
