@@ -172,10 +172,10 @@ std::vector<TrackerOption> build_table() {
              BIVO_FIELD(problem.max_depth)),
       number("problem.occlusion_margin", "--occlusion-margin", 0.0, kInf,
              "a warped point this far behind the current depth is occluded [m]", BIVO_FIELD(problem.occlusion_margin)),
-      integer("problem.depth_noise_exponent", "--depth-noise-exponent", -1, 2,
+      integer("problem.depth_noise_exponent", "--depth-noise-exponent", -1, 3,
               "r_D divided by (z / 1 m)^p, z the reference depth: 2 for depth noise growing with z^2 "
-              "(structured light, stereo), 0 for noise independent of depth, -1 the method's own (2 for joint "
-              "and robust, else 0)",
+              "(structured light, stereo), 3 as the real fr3 residual's spread, 0 for noise independent of "
+              "depth, -1 the method's own (2 for joint and robust, else 0)",
               BIVO_FIELD(problem.depth_noise_exponent)),
       number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "

@@ -78,9 +78,9 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
                 std::to_string(options_.max_depth) + "] is empty or not positive");
   }
   if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
-  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 2) {
+  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 3) {
     throw Error(
-        "RGB-D problem: depth noise exponent must be 0, 1 or 2 (-1 'auto': resolve it first, "
+        "RGB-D problem: depth noise exponent must be 0, 1, 2 or 3 (-1 'auto': resolve it first, "
         "method_depth_noise_exponent()), got " +
         std::to_string(options_.depth_noise_exponent));
   }

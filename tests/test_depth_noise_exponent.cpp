@@ -31,7 +31,7 @@ TEST(DepthNoiseExponent, DividesEachDepthTermByItsDepthToThePower) {
   RgbdOdometryProblem p0(a, b, plain);
   ASSERT_EQ(static_cast<std::size_t>(p0.num_terms()), z.size());
   const solvers::ResidualData d0 = p0.residuals(2, x, true);
-  for (const int exponent : {1, 2}) {
+  for (const int exponent : {1, 2, 3}) {
     RgbdProblemOptions o = plain;
     o.depth_noise_exponent = exponent;
     RgbdOdometryProblem p(a, b, o);
@@ -48,7 +48,7 @@ TEST(DepthNoiseExponent, DividesEachDepthTermByItsDepthToThePower) {
     EXPECT_GT(want, std::pow(0.5, 2 * exponent) * d0.r.squaredNorm());
   }
   RgbdProblemOptions bad = plain;
-  bad.depth_noise_exponent = 3;
+  bad.depth_noise_exponent = 4;
   EXPECT_THROW(RgbdOdometryProblem(a, b, bad), Error);
 }
 

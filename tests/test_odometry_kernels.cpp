@@ -32,7 +32,7 @@ using bivo::testing::scene;
 
 TEST(RgbdKernels, FloatModelsMatchTheDoublePathsFullData) {
   for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
-    for (const int exponent : {0, 1, 2}) {
+    for (const int exponent : {0, 1, 2, 3}) {
       if (!kernels_available(isa)) continue;
       SCOPED_TRACE(std::string(to_string(isa)) + ", depth noise exponent " + std::to_string(exponent));
       RgbdProblemOptions options;

@@ -154,9 +154,9 @@ TEST(LosoStudy, ABadParameterIsRefusedWhenPlanned) {
   Shell r = shell(bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter no_such --grid 1 2", root);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("'no_such' is not a numeric tracker option"), std::string::npos) << r.err;
-  // A value outside the option's range: depth_noise_exponent is an integer in [0, 2].
+  // A value outside the option's range: depth_noise_exponent is an integer in [0, 3].
   r = shell(
-      bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter problem.depth_noise_exponent --grid 0 3",
+      bivo_cli() + " plan loso" + flags + q(root / "bad.json") + " --parameter problem.depth_noise_exponent --grid 0 4",
       root);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("depth_noise_exponent"), std::string::npos) << r.err;

@@ -44,7 +44,7 @@ inline typename V::F lerp(typename V::F s, typename V::F a, typename V::F b) {
 template <class V>
 inline typename V::F depth_noise_scale(typename V::F z, int exponent) {
   const typename V::F iz = V::set(1.0f) / z;
-  return exponent == 1 ? iz : iz * iz;
+  return exponent == 1 ? iz : exponent == 2 ? iz * iz : iz * iz * iz;
 }
 
 // kStore false: the same sums, in the same order, without the stores and the gradients.
