@@ -1,7 +1,6 @@
 // `bivo eval` end to end through the built binary (BIVO_BINARY): the one-line output agrees
 // with the library on a hand-built oracle, and bad input (no overlap, malformed lines,
 // missing files, unwritable output) exits non-zero with a clear message and no file left.
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -11,32 +10,15 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliResult {
-  int status = -1;
-  std::string out, err;
-};
-
 // Runs the bivo binary with `args` (shell-quoted by the caller), capturing stdout/stderr.
-CliResult run_bivo(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd =
-      std::string("'") + BIVO_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
-  const int raw = std::system(cmd.c_str());
-  CliResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  auto slurp = [](const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
+bivo::testing::BivoRun run_bivo(const std::string& args, const fs::path& dir) {
+  return bivo::testing::run_bivo_in(args, dir.string());
 }
 
 class CliEval : public ::testing::Test {
@@ -73,7 +55,7 @@ class CliEval : public ::testing::Test {
 
 TEST_F(CliEval, PrintsExactlyOneLineWithTheOracleValues) {
   write_pair();
-  const CliResult r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
+  const bivo::testing::BivoRun r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   std::smatch m;
   const std::regex line(R"(^rpe_trans=(\S+) rpe_rot=(\S+) ate=(\S+) pairs=(\d+)\n$)");
@@ -88,7 +70,7 @@ TEST_F(CliEval, PrintsExactlyOneLineWithTheOracleValues) {
 
 TEST_F(CliEval, JsonFlagAndOutputFile) {
   write_pair();
-  const CliResult r = run_bivo(
+  const bivo::testing::BivoRun r = run_bivo(
       "eval --json --output " + q(dir_ / "detail.json") + " " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"rpe_trans\":0.05"), std::string::npos) << r.out;
@@ -101,7 +83,7 @@ TEST_F(CliEval, JsonFlagAndOutputFile) {
 
 TEST_F(CliEval, NoOverlappingTimestampsFails) {
   write_pair(/*est_offset_s=*/50.0);
-  const CliResult r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
+  const bivo::testing::BivoRun r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_NE(r.err.find("overlap"), std::string::npos) << r.err;
@@ -113,14 +95,14 @@ TEST_F(CliEval, MalformedLineNamesFileAndLine) {
     std::ofstream e(dir_ / "est.txt", std::ios::app);
     e << "1004.5 1 2 three 0 0 0 1\n";
   }
-  const CliResult r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
+  const bivo::testing::BivoRun r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("est.txt:101"), std::string::npos) << r.err;
 }
 
 TEST_F(CliEval, MissingFileFails) {
   write_pair();
-  const CliResult r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "nope.txt"), dir_);
+  const bivo::testing::BivoRun r = run_bivo("eval " + q(dir_ / "gt.txt") + " " + q(dir_ / "nope.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("nope.txt"), std::string::npos) << r.err;
 }
@@ -128,7 +110,7 @@ TEST_F(CliEval, MissingFileFails) {
 TEST_F(CliEval, UnwritableOutputFailsAndLeavesNothing) {
   write_pair();
   const fs::path target = dir_ / "no_such_dir" / "detail.json";
-  const CliResult r =
+  const bivo::testing::BivoRun r =
       run_bivo("eval --output " + q(target) + " " + q(dir_ / "gt.txt") + " " + q(dir_ / "est.txt"), dir_);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("detail.json"), std::string::npos) << r.err;
@@ -140,7 +122,7 @@ TEST_F(CliEval, UnwritableOutputFailsAndLeavesNothing) {
 }
 
 TEST_F(CliEval, MissingArgumentsIsAUsageError) {
-  const CliResult r = run_bivo("eval", dir_);
+  const bivo::testing::BivoRun r = run_bivo("eval", dir_);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("groundtruth"), std::string::npos) << r.err;
 }

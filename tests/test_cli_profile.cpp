@@ -2,8 +2,6 @@
 // (single with Gauss-Newton) is timed and printed once, first, wherever it is listed; every
 // method is timed over the repetitions asked for, with median and quartiles. (Timings
 // themselves are not asserted: a test must not depend on the machine's load.)
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,28 +9,27 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "odometry/synth/sequence.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using namespace bivo;
 using json = nlohmann::json;
 
-TEST(CliProfile, TheReferenceIsTimedOnceFirstAndEveryMethodOverTheRepetitions) {
-  const fs::path root = fs::temp_directory_path() / ("bivo_cli_profile_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
-  odometry::synth::SynthOptions o;
-  o.category = odometry::synth::parse_category("structure_texture_near");
-  o.frames = 4;
-  o.render.supersampling = 1;
-  const std::string seq = odometry::synth::render_sequence(o, root.string());
-  const bivo::testing::BivoRun r = bivo::testing::run_bivo_in(
-      "profile '" + seq + "' --methods weighted single:gn fixed --repetitions 2 --levels 2 --output '" +
-          (root / "out").string() + "'",
-      root.string());
+namespace {
+
+class CliProfile : public bivo::testing::CliSuite {
+ protected:
+  static void SetUpTestSuite() { render_suite("bivo_cli_profile", {{"", 4, 1}}); }
+};
+
+}  // namespace
+
+TEST_F(CliProfile, TheReferenceIsTimedOnceFirstAndEveryMethodOverTheRepetitions) {
+  const bivo::testing::BivoRun r =
+      bivo("profile " + q(sequence_) + " --methods weighted single:gn fixed --repetitions 2 --levels 2 --output " +
+           q(dir_ / "out"));
   ASSERT_EQ(r.status, 0) << r.err;
-  std::ifstream in(root / "out" / "profile.json");
+  std::ifstream in(dir_ / "out" / "profile.json");
   const json rows = json::parse(in);
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0]["method"], "single");
@@ -46,12 +43,11 @@ TEST(CliProfile, TheReferenceIsTimedOnceFirstAndEveryMethodOverTheRepetitions) {
     EXPECT_LE(row["median_ms"].get<double>(), row["q3_ms"].get<double>());
   }
   // The reference's row of the runtime table is printed once.
-  std::ifstream md(root / "out" / "profile.md");
+  std::ifstream md(dir_ / "out" / "profile.md");
   std::stringstream text;
   text << md.rdbuf();
   const std::string s = text.str();
   const std::string runtime = s.substr(s.find("Runtime per frame pair"));
   EXPECT_EQ(runtime.find("| single | gn |"), runtime.rfind("| single | gn |")) << runtime;
   EXPECT_NE(runtime.find("| single | gn | 3 x 2 |"), std::string::npos) << runtime;
-  fs::remove_all(root);
 }

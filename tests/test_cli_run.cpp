@@ -2,10 +2,6 @@
 // needed): output formats, the first pose taken from ground truth, and bad input (unknown
 // method or backend, a backend that cannot solve the method, options of another method,
 // missing sequence, unwritable output) -> exit 1, a clear message and no file left behind.
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -14,75 +10,32 @@
 #include <gtest/gtest.h>
 
 #include "odometry/io/trajectory.h"
-#include "odometry/synth/sequence.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using namespace bivo;
+using bivo::testing::BivoRun;
+using bivo::testing::slurp;
 
 namespace {
 
-struct CliResult {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliResult run_bivo(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd =
-      std::string("'") + BIVO_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
-  const int raw = std::system(cmd.c_str());
-  CliResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
-
 // One 4-frame synthetic sequence shared by all tests of this file.
-class CliRun : public ::testing::Test {
+class CliRun : public bivo::testing::CliSuite {
  protected:
   static void SetUpTestSuite() {
-    root_ = fs::temp_directory_path() / ("bivo_cli_run_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    odometry::synth::SynthOptions o;
-    o.category = odometry::synth::parse_category("structure_texture_near");
-    o.frames = 4;
-    o.seed = 3;
-    sequence_ = odometry::synth::render_sequence(o, root_.string());
+    render_suite("bivo_cli_run", {{"", 4, 3, odometry::synth::SynthOptions{}.render.supersampling}});
   }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  void SetUp() override {
-    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
-  std::string q(const fs::path& p) const { return "'" + p.string() + "'"; }
   std::string seq() const { return q(sequence_); }
   void expect_no_leftovers() const {
-    for (const auto& e : fs::directory_iterator(dir_)) {
-      const std::string name = e.path().filename().string();
-      EXPECT_TRUE(name == "stdout.txt" || name == "stderr.txt") << "left behind: " << e.path();
-    }
+    for (const auto& e : fs::directory_iterator(dir_)) ADD_FAILURE() << "left behind: " << e.path();
   }
-  static fs::path root_;
-  static std::string sequence_;
-  fs::path dir_;
 };
-fs::path CliRun::root_;
-std::string CliRun::sequence_;
 
 }  // namespace
 
 TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
-  const CliResult r = run_bivo(
-      "run " + seq() + " --method single --output " + q(dir_ / "traj.txt") + " --log " + q(dir_ / "pairs.csv"), dir_);
+  const BivoRun r =
+      bivo("run " + seq() + " --method single --output " + q(dir_ / "traj.txt") + " --log " + q(dir_ / "pairs.csv"));
   ASSERT_EQ(r.status, 0) << r.err;
   // The last line of stdout is the run line; no progress bar on a non-terminal stderr.
   const std::regex line(
@@ -109,15 +62,15 @@ TEST_F(CliRun, WritesTrajectoryLogAndEndsWithTheRunLine) {
 }
 
 TEST_F(CliRun, StartFrameAndMaxFramesSelectTheWindow) {
-  const CliResult r = run_bivo(
-      "run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun r =
+      bivo("run " + seq() + " --method weighted --first-frame 1 --max-frames 2 --output " + q(dir_ / "t.txt"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("frames=2 "), std::string::npos) << r.out;
   EXPECT_EQ(odometry::io::read_tum_trajectory((dir_ / "t.txt").string()).size(), 2u);
 }
 
 TEST_F(CliRun, UnknownMethodListsTheValidOnes) {
-  const CliResult r = run_bivo("run " + seq() + " --method newton --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun r = bivo("run " + seq() + " --method newton --output " + q(dir_ / "t.txt"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("newton"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bounded"), std::string::npos) << r.err;
@@ -125,8 +78,7 @@ TEST_F(CliRun, UnknownMethodListsTheValidOnes) {
 }
 
 TEST_F(CliRun, UnknownBackendListsTheValidOnes) {
-  const CliResult r =
-      run_bivo("run " + seq() + " --method bounded --backend cvxpy --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun r = bivo("run " + seq() + " --method bounded --backend cvxpy --output " + q(dir_ / "t.txt"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("cvxpy"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("exact"), std::string::npos) << r.err;
@@ -135,27 +87,27 @@ TEST_F(CliRun, UnknownBackendListsTheValidOnes) {
 
 TEST_F(CliRun, BackendThatCannotSolveTheMethodFails) {
   // gn solves weighted sums only; bounded is an epsilon-constraint.
-  const CliResult r = run_bivo("run " + seq() + " --method bounded --backend gn --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun r = bivo("run " + seq() + " --method bounded --backend gn --output " + q(dir_ / "t.txt"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("gn"), std::string::npos) << r.err;
   expect_no_leftovers();
 }
 
 TEST_F(CliRun, OptionOfAnotherMethodFails) {
-  const CliResult r = run_bivo("run " + seq() + " --method single --lambda 10", dir_);
+  const BivoRun r = bivo("run " + seq() + " --method single --lambda 10");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--lambda"), std::string::npos) << r.err;
 }
 
 TEST_F(CliRun, MissingSequenceIsNamed) {
-  const CliResult r = run_bivo("run " + q(dir_ / "nowhere") + " --method single", dir_);
+  const BivoRun r = bivo("run " + q(dir_ / "nowhere") + " --method single");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
 }
 
 TEST_F(CliRun, UnwritableOutputFailsAndLeavesNothing) {
   const fs::path target = dir_ / "missing_dir" / "traj.txt";
-  const CliResult r = run_bivo("run " + seq() + " --method single --max-frames 2 --output " + q(target), dir_);
+  const BivoRun r = bivo("run " + seq() + " --method single --max-frames 2 --output " + q(target));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("traj.txt"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(target));
@@ -164,7 +116,7 @@ TEST_F(CliRun, UnwritableOutputFailsAndLeavesNothing) {
 
 TEST_F(CliRun, EverySubcommandHasHelp) {
   for (const char* sub : {"run", "eval", "table", "sweep", "pareto", "profile", "report", "demo"}) {
-    const CliResult r = run_bivo(std::string(sub) + " --help", dir_);
+    const BivoRun r = bivo(std::string(sub) + " --help");
     EXPECT_EQ(r.status, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub << ": " << r.out;
   }
@@ -177,8 +129,8 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
       " --initial-guess identity --max-iterations 9 --step-tolerance 3e-4 --decrease-tolerance 2e-3"
       " --min-depth 0.2 --max-depth 8 --occlusion-margin 0.05 --max-dt 0.015 --intrinsics '535.4 539.2 320.1 247.6'"
       " --distortion '0.05 -0.1 0.001 0.002 0.01' --first-frame 1 --max-frames 3";
-  const CliResult a = run_bivo(
-      "run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " + q(dir_ / "saved.json"), dir_);
+  const BivoRun a =
+      bivo("run " + seq() + flags + " --output " + q(dir_ / "a.txt") + " --save-config " + q(dir_ / "saved.json"));
   ASSERT_EQ(a.status, 0) << a.err;
   const std::string config = slurp(dir_ / "a.config.json");
   ASSERT_FALSE(config.empty());
@@ -187,15 +139,13 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
                             "\"max_frames\": 3", "\"initial_guess\": \"identity\"", "\"fx\": 535.4", "\"k1\": 0.05"}) {
     EXPECT_NE(config.find(value), std::string::npos) << value << " missing in\n" << config;
   }
-  const CliResult b =
-      run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"), dir_);
+  const BivoRun b = bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"));
   ASSERT_EQ(b.status, 0) << b.err;
   EXPECT_EQ(slurp(dir_ / "b.txt"), slurp(dir_ / "a.txt"));
   EXPECT_EQ(slurp(dir_ / "b.config.json"), config);
   // Changing one field changes the result: the file is really read.
-  const CliResult c = run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") +
-                                   " --initial-guess constant-velocity --output " + q(dir_ / "c.txt"),
-                               dir_);
+  const BivoRun c = bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") +
+                         " --initial-guess constant-velocity --output " + q(dir_ / "c.txt"));
   ASSERT_EQ(c.status, 0) << c.err;
   EXPECT_NE(slurp(dir_ / "c.txt"), slurp(dir_ / "a.txt"));
   EXPECT_NE(slurp(dir_ / "c.config.json").find("\"initial_guess\": \"constant-velocity\""), std::string::npos);
@@ -207,31 +157,29 @@ TEST_F(CliRun, ConfigRoundTripGivesByteIdenticalTrajectories) {
 // joint_weights round-trip through the file in TrackerConfig.EveryFieldRoundTrips...).
 TEST_F(CliRun, NewPolicyFieldsRoundTripThroughTheConfig) {
   const std::string flags = " --method noise-bounded --eps-ratio 0.7 --guard 0.03 --levels 2 --finest-level 1";
-  const CliResult a = run_bivo("run " + seq() + flags + " --max-frames 2 --output " + q(dir_ / "a.txt"), dir_);
+  const BivoRun a = bivo("run " + seq() + flags + " --max-frames 2 --output " + q(dir_ / "a.txt"));
   ASSERT_EQ(a.status, 0) << a.err;
   const std::string config = slurp(dir_ / "a.config.json");
   EXPECT_NE(config.find("\"eps_ratio\": 0.7"), std::string::npos) << config;
   EXPECT_NE(config.find("\"guard\": 0.03"), std::string::npos) << config;
-  const CliResult b =
-      run_bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"), dir_);
+  const BivoRun b = bivo("run " + seq() + " --config " + q(dir_ / "a.config.json") + " --output " + q(dir_ / "b.txt"));
   ASSERT_EQ(b.status, 0) << b.err;
   EXPECT_EQ(slurp(dir_ / "b.txt"), slurp(dir_ / "a.txt"));
   EXPECT_EQ(slurp(dir_ / "b.config.json"), config);
   // A policy flag of another method is refused, naming its method.
-  const CliResult bad = run_bivo("run " + seq() + " --method joint --kappa 2 --output " + q(dir_ / "x.txt"), dir_);
+  const BivoRun bad = bivo("run " + seq() + " --method joint --kappa 2 --output " + q(dir_ / "x.txt"));
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.err.find("scaled"), std::string::npos) << bad.err;
 }
 
 TEST_F(CliRun, BadConfigFileNamesTheKeyAndWritesNothing) {
   std::ofstream(dir_ / "cfg.json") << R"({"method": "single", "levles": 3})";
-  const CliResult r =
-      run_bivo("run " + seq() + " --config " + q(dir_ / "cfg.json") + " --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun r = bivo("run " + seq() + " --config " + q(dir_ / "cfg.json") + " --output " + q(dir_ / "t.txt"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("cfg.json: unknown key 'levles'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "t.txt"));
   EXPECT_FALSE(fs::exists(dir_ / "t.config.json"));
-  const CliResult m = run_bivo("run " + seq() + " --output " + q(dir_ / "t.txt"), dir_);
+  const BivoRun m = bivo("run " + seq() + " --output " + q(dir_ / "t.txt"));
   EXPECT_EQ(m.status, 1);
   EXPECT_NE(m.err.find("--method"), std::string::npos) << m.err;
 }

@@ -1,7 +1,7 @@
 // What the study commands (table, sweep, report) leave behind and how they exit, through the
 // built `bivo` on tiny rendered sequences: two sequences whose folders share a name keep both
 // results; a failed cell writes the others and exits 1 (0 with --keep-going, the count still
-// on the last line); usage errors exit 2; a run too short for one RPE window gives "too
+// on the last line); usage errors exit 2, bad values 1; a run too short for one RPE window gives "too
 // short" cells instead of a dead report.
 #include <unistd.h>
 
@@ -13,8 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "odometry/synth/sequence.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::contains;
@@ -32,37 +31,11 @@ std::string last_line(const std::string& text) {
   return nl == std::string::npos ? t : t.substr(nl + 1);
 }
 
-class StudyOutcomes : public ::testing::Test {
+class StudyOutcomes : public bivo::testing::CliSuite {
  protected:
   // Two renderings of one category with different seeds: same folder name, in syn1/ and syn2/.
-  static void SetUpTestSuite() {
-    root_ = fs::temp_directory_path() / ("bivo_study_outcomes_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    for (int seed : {1, 2}) {
-      odometry::synth::SynthOptions o;
-      o.category = odometry::synth::parse_category("structure_texture_near");
-      o.frames = 10;
-      o.seed = seed;
-      o.render.supersampling = 1;
-      const fs::path dir = root_ / ("syn" + std::to_string(seed));
-      fs::create_directories(dir);
-      sequences_.push_back(odometry::synth::render_sequence(o, dir.string()));
-    }
-  }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  void SetUp() override {
-    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
-  static std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-  BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, dir_.string()); }
-
-  static fs::path root_;
-  static std::vector<std::string> sequences_;
-  fs::path dir_;
+  static void SetUpTestSuite() { render_suite("bivo_study_outcomes", {{"syn1", 10, 1}, {"syn2", 10, 2}}); }
 };
-fs::path StudyOutcomes::root_;
-std::vector<std::string> StudyOutcomes::sequences_;
 
 }  // namespace
 
@@ -112,13 +85,28 @@ TEST_F(StudyOutcomes, ASweepWithABadBackendExitsOne) {
   EXPECT_TRUE(contains(r.err, "nope")) << r.err;
 }
 
-TEST_F(StudyOutcomes, UsageErrorsExitTwoRuntimeErrorsOne) {
+// A command line of the wrong shape exits 2; a value a flag refuses exits 1 naming flag and
+// value, as the same value in a configuration or study file does, and so does a runtime error.
+TEST_F(StudyOutcomes, UsageErrorsExitTwoBadValuesAndRuntimeErrorsOne) {
   EXPECT_EQ(bivo("table --methods single").status, 2);  // --sequences missing
   EXPECT_EQ(bivo("run " + q(sequences_[0]) + " --method single --no-such-flag").status, 2);
   EXPECT_EQ(bivo("no-such-command").status, 2);
-  EXPECT_EQ(bivo("table --sequences a b --output " + q(dir_ / "o") + " --first-frame x").status, 2);
-  EXPECT_EQ(bivo("run " + q(dir_ / "missing") + " --method single").status, 1);
+  EXPECT_EQ(bivo("pareto " + q(sequences_[0]) + " --pair 0 --every 2 --output " + q(dir_ / "o")).status, 2);
   EXPECT_EQ(bivo("--help").status, 0);
+  const std::vector<std::pair<std::string, std::string>> bad_values = {
+      {"table --sequences a b --output " + q(dir_ / "o") + " --first-frame x", "--first-frame = x"},
+      {"table --sequences a --output " + q(dir_ / "o") + " --delta 0", "--delta: Value 0 not in range"},
+      {"merge " + q(dir_ / "no-such-study.json"), "File does not exist: " + (dir_ / "no-such-study.json").string()},
+      {"--max-conic-size 0 conic x.json", "--max-conic-size: Value 0 not in range"},
+      {"run " + q(sequences_[0]) + " --method single --levels 0", "--levels: levels: 0 is outside [1, 8]"},
+      {"run " + q(dir_ / "missing") + " --method single", "missing"}};
+  for (const auto& [args, message] : bad_values) {
+    const BivoRun r = bivo(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "bivo: error: ")) << args << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, message)) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "o"));
 }
 
 // 10 frames are 0.3 s: no 1-s RPE window. The report still completes, saying so in its cells;
@@ -170,8 +158,12 @@ TEST_F(StudyOutcomes, ParetoBackendAndBoundedCounts) {
   const BivoRun bad = bivo(args + " --backend nope --output " + q(dir_ / "bad"));
   EXPECT_EQ(bad.status, 1);
   EXPECT_TRUE(contains(bad.err, "unknown solver backend 'nope'")) << bad.err;
-  EXPECT_EQ(bivo(args + " --points 100000 --output " + q(dir_ / "many")).status, 2);
-  EXPECT_FALSE(fs::exists(dir_ / "many"));
+  for (const char* points : {"100000", "2147483647", "99999999999"}) {  // ran without bound; then exited 2
+    const BivoRun many = bivo(args + " --points " + points + " --output " + q(dir_ / "many"));
+    EXPECT_EQ(many.status, 1) << many.err;
+    EXPECT_TRUE(contains(many.err, std::string("--points: Value ") + points + " not in range 2 to 1000")) << many.err;
+    EXPECT_FALSE(fs::exists(dir_ / "many"));
+  }
   const BivoRun plan = bivo("plan pareto " + q(sequences_[0]) + " --pair 0 --points 3 --output " + q(dir_ / "p") +
                             " --study " + q(dir_ / "p.json"));
   ASSERT_EQ(plan.status, 0) << plan.err;

@@ -15,39 +15,22 @@
 
 #include "odometry/io/png_io.h"
 #include "odometry/io/trajectory.h"
-#include "odometry/synth/sequence.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::contains;
 using bivo::testing::slurp;
 using namespace bivo;
 using bivo::testing::BivoRun;
+using bivo::testing::expect_clear_error;
 
 namespace {
 
 // One 4-frame synthetic sequence shared by the tests; each test works in its own folder.
-class HardeningCli : public ::testing::Test {
+class HardeningCli : public bivo::testing::CliSuite {
  protected:
-  static void SetUpTestSuite() {
-    root_ = fs::temp_directory_path() / ("bivo_hardening_cli_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    odometry::synth::SynthOptions o;
-    o.category = odometry::synth::parse_category("structure_texture_near");
-    o.frames = 4;
-    o.seed = 3;
-    o.render.supersampling = 1;  // every test is its own process: keep the rendering cheap
-    sequence_ = odometry::synth::render_sequence(o, (root_ / "shared").string());
-  }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  void SetUp() override {
-    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
+  static void SetUpTestSuite() { render_suite("bivo_hardening_cli"); }
 
-  static std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-  BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, dir_.string()); }
   // A private copy of the sequence to damage.
   fs::path copy_sequence() const {
     const fs::path copy = dir_ / fs::path(sequence_).filename();
@@ -66,12 +49,6 @@ class HardeningCli : public ::testing::Test {
     }
     return out;
   }
-  // Failure the way bad input must fail: exit 1, the message holds `part`, no internal error.
-  static void expect_clear_error(const BivoRun& r, const std::string& part) {
-    EXPECT_EQ(r.status, 1) << r.err;
-    EXPECT_TRUE(contains(r.err, part)) << r.err;
-    EXPECT_FALSE(contains(r.err, "internal error")) << r.err;
-  }
   // Only the files named remain in this test's folder.
   void expect_only(std::vector<std::string> names) const {
     for (const auto& e : fs::directory_iterator(dir_)) {
@@ -79,13 +56,7 @@ class HardeningCli : public ::testing::Test {
       EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << "left behind: " << e.path();
     }
   }
-
-  static fs::path root_;
-  static std::string sequence_;
-  fs::path dir_;
 };
-fs::path HardeningCli::root_;
-std::string HardeningCli::sequence_;
 
 }  // namespace
 

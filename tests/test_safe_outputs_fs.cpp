@@ -11,14 +11,16 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "experiments/study/study.h"
 #include "experiments/study/study_work.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::BivoRun;
 using bivo::testing::contains;
+using bivo::testing::expect_clear_error;
 using bivo::testing::slurp;
 
 namespace {
@@ -51,11 +53,6 @@ class SafeFs : public ::testing::Test {
     return bivo::testing::run_bivo_in("--help >/dev/null 2>&1; trap '' XFSZ; ulimit -f " + std::to_string(blocks) +
                                           "; exec '" + BIVO_BINARY + "' " + args,
                                       scratch().string());
-  }
-  static void expect_clear_error(const BivoRun& r, const std::string& part) {
-    EXPECT_EQ(r.status, 1) << r.err;
-    EXPECT_TRUE(contains(r.err, part)) << r.err;
-    EXPECT_FALSE(contains(r.err, "internal error")) << r.err;
   }
   // A tmpfs at `at` with mount options `options`; false when this process may not mount.
   bool mount_tmpfs(const fs::path& at, const std::string& options) {
@@ -252,6 +249,23 @@ TEST_F(SafeFs, HandEditedStudyFailsItsHash) {
   EXPECT_FALSE(fs::exists(dir() / "st.results"));
 }
 
+// A study file without a hash (as an older bivo wrote them) ran unchecked.
+TEST_F(SafeFs, StudyWithoutAHashIsRefused) {
+  const fs::path study = plan("st", 2);
+  nlohmann::json j = nlohmann::json::parse(slurp(study));
+  ASSERT_EQ(j.erase("study_hash"), 1u);
+  const std::string text = j.dump(2);
+  std::ofstream(study) << text;
+  for (const char* command : {"work ", "merge "}) {
+    const BivoRun r = bivo(command + q(study));
+    expect_clear_error(r, study.string() + ": the study has no study_hash");
+    EXPECT_TRUE(contains(r.err, "plan it again with `bivo plan`")) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir() / "st.results"));
+  EXPECT_FALSE(fs::exists(dir() / "st.out"));
+  EXPECT_EQ(slurp(study), text);
+}
+
 // VAR 2^30 in a CBF file under --max-conic-size 2^30: std::bad_alloc ("internal error").
 // An address-space limit makes the allocation fail at once on every machine.
 TEST_F(SafeFs, CbfVar1073741823UnderMaxConicSize1073741824) {
@@ -276,14 +290,15 @@ TEST_F(SafeFs, RunOutputHardLinkedToTheGroundTruth) {
 }
 
 // `table --config out/config.json --output out` replaced its own configuration with the one it
-// wrote; a merge into the folder of its study file replaced the study.json it was reading.
+// wrote; a merge into the folder of its study file replaced the study.json it was reading
+// (both refused before any work: test_output_collisions.cpp).
 TEST_F(SafeFs, OutputsNeverReplaceTheFilesTheyRead) {
   fs::create_directories(dir() / "out");
   const std::string config = "{\"method\": \"single\", \"levels\": 2}\n";
   std::ofstream(dir() / "out" / "config.json") << config;
   const BivoRun t = bivo("table --sequences " + q(sequence_) + " --config " + q(dir() / "out" / "config.json") +
                          " --output " + q(dir() / "out"));
-  expect_clear_error(t, "it is an input of this run");
+  expect_clear_error(t, "lies in --output");
   EXPECT_EQ(slurp(dir() / "out" / "config.json"), config);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir() / "out"), fs::directory_iterator()), 1);
 
@@ -296,7 +311,7 @@ TEST_F(SafeFs, OutputsNeverReplaceTheFilesTheyRead) {
   ASSERT_EQ(bivo("work " + q(study)).status, 0);
   const std::string planned = slurp(study);
   const BivoRun m = bivo("merge " + q(study));
-  expect_clear_error(m, "refusing to write '" + study.string() + "': it is an input of this run");
+  expect_clear_error(m, "the study '" + study.string() + "', an input of this command, lies in --output");
   EXPECT_EQ(slurp(study), planned);
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(study.parent_path())) left.push_back(e.path().filename().string());

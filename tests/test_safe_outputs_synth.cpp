@@ -17,13 +17,14 @@
 
 #include <gtest/gtest.h>
 
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 extern char** environ;
 
 namespace fs = std::filesystem;
 using bivo::testing::BivoRun;
 using bivo::testing::contains;
+using bivo::testing::expect_clear_error;
 using bivo::testing::slurp;
 
 namespace {
@@ -41,11 +42,6 @@ class SafeSynth : public ::testing::Test {
   BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, scratch_.string()); }
   BivoRun synth(const std::string& folder_name, const std::string& more = "") const {
     return bivo("synth" + std::string(kTiny) + " --output " + q(dir_) + " --name " + folder_name + " " + more);
-  }
-  static void expect_clear_error(const BivoRun& r, const std::string& part) {
-    EXPECT_EQ(r.status, 1) << r.err;
-    EXPECT_TRUE(contains(r.err, part)) << r.err;
-    EXPECT_FALSE(contains(r.err, "internal error")) << r.err;
   }
   // The names in D: nothing left beside what the test expects.
   std::vector<std::string> entries() const {

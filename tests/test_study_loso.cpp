@@ -113,9 +113,10 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   Study infinite = s;  // JSON has no infinity: refused when planned, not when read back
   infinite.loso->grid[2] = std::numeric_limits<double>::infinity();
   EXPECT_NE(error_of([&] { check_study(infinite); }).find("not finite"), std::string::npos);
-  bad = j;
-  bad["loso"]["methods"][1] = "single";  // the reference twice: two units of one name
-  EXPECT_NE(error_of([&] { study_units(study_from_json(bad, "s.json")); }).find("two units named"), std::string::npos);
+  Study twice = s;
+  twice.loso->methods[1] = "single";  // the reference twice: two units of one name
+  EXPECT_NE(error_of([&] { study_units(study_from_json(study_to_json(twice), "s.json")); }).find("two units named"),
+            std::string::npos);
 }
 
 TEST(LosoStudy, ARunReadsBackBitForBit) {

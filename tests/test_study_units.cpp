@@ -57,6 +57,10 @@ TEST(StudyFile, RoundTripsBitForBitAndIsStrict) {
   EXPECT_EQ(back.table->methods[1].backend, "ipm-full");
   EXPECT_EQ(back.pareto->pairs[0].pair, 9);
 
+  nlohmann::json unhashed = j;
+  unhashed.erase("study_hash");
+  EXPECT_NE(error_of([&] { study_from_json(unhashed, "s.json"); }).find("s.json: the study has no study_hash"),
+            std::string::npos);
   nlohmann::json typo = j;
   typo["table"]["sequencs"] = typo["table"]["sequences"];
   EXPECT_NE(error_of([&] { study_from_json(typo, "s.json"); }).find("s.json.table: unknown key 'sequencs'"),

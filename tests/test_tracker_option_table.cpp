@@ -15,8 +15,7 @@
 
 #include "experiments/tracker_config.h"
 #include "experiments/tracker_option_table.h"
-#include "odometry/synth/sequence.h"
-#include "test_support.h"
+#include "tests/support/cli_suite.h"
 
 namespace fs = std::filesystem;
 using bivo::testing::contains;
@@ -29,33 +28,10 @@ using json = nlohmann::json;
 
 namespace {
 
-class TrackerOptionSources : public ::testing::Test {
+class TrackerOptionSources : public bivo::testing::CliSuite {
  protected:
-  static void SetUpTestSuite() {
-    root_ = fs::temp_directory_path() / ("bivo_option_table_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-    odometry::synth::SynthOptions o;
-    o.category = odometry::synth::parse_category("structure_texture_near");
-    o.frames = 4;
-    o.seed = 5;
-    o.render.supersampling = 1;
-    sequence_ = odometry::synth::render_sequence(o, (root_ / "shared").string());
-  }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  void SetUp() override {
-    dir_ = root_ / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::create_directories(dir_);
-  }
-  static std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-  BivoRun bivo(const std::string& args) const { return bivo::testing::run_bivo_in(args, dir_.string()); }
-
-  static fs::path root_;
-  static std::string sequence_;
-  fs::path dir_;
+  static void SetUpTestSuite() { render_suite("bivo_option_table", {{"shared", 4, 5}}); }
 };
-fs::path TrackerOptionSources::root_;
-std::string TrackerOptionSources::sequence_;
 
 // A flag text the option must refuse, and the JSON value a file would hold for it.
 struct Bad {

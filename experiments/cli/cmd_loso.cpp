@@ -33,7 +33,9 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for loso.md / loso.csv / runs.csv / pairs.csv")->required();
   return [a] {
-    check_output_folder({"--output", a->output});
+    std::vector<NamedPath> inputs = named_paths("--sequences", a->o.sequences);
+    inputs.push_back(a->tracker->config_input());
+    check_output_folder({"--output", a->output}, inputs);
     LosoOptions o = a->o;
     o.tracker = a->tracker->options();
     return loso_study(o, a->output);

@@ -65,7 +65,10 @@ void add_merge_command(CLI::App& app) {
     const Study study = read_study(a->study);
     const std::string results = a->results.empty() ? default_results_dir(a->study) : a->results;
     const std::string output = a->output.empty() ? study.output : a->output;
-    check_output_folder({"--output", output});
+    std::vector<NamedPath> inputs = named_paths("a sequence of the study", study_sequences(study));
+    inputs.push_back({"the study", a->study});
+    inputs.push_back({"the results folder", results});
+    check_output_folder({"--output", output}, inputs);
     const CollectedResults collected = collect_results(study, results);
     std::cerr << "merge: " << collected.files << " result file(s) in " << results << ": "
               << completeness_text(collected);

@@ -38,7 +38,7 @@ StudyFactory add_pareto_flags(CLI::App* cmd) {
   cmd->add_option("--output", a->output, "folder for pareto_pair<K>.json/.png and pareto.md")->required();
   cmd->add_flag("--no-plots", a->no_plots, "write the JSON only (no matplotlib)");
   return [a] {
-    check_output_folder({"--output", a->output});
+    check_output_folder({"--output", a->output}, {{"sequence", a->o.sequence_dir}, a->tracker->config_input()});
     ParetoStudyOptions o = a->o;
     o.tracker = a->tracker->options();
     const std::vector<int> pairs = pareto_pairs(o.sequence_dir, a->pair, a->every, a->max_pairs);

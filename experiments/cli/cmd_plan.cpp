@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "experiments/cli/commands.h"
+#include "experiments/output_set.h"
 #include "experiments/study/study_launch.h"
 #include "experiments/study/study_plan.h"
 #include "experiments/study/study_work.h"
@@ -61,12 +62,20 @@ std::string stem_of(const std::string& study_path) {
   return p.string();
 }
 
-void plan(const Study& study, PlanArgs p) {
+void plan(const Study& study, PlanArgs p, const std::string& config) {
   if (p.study.empty()) throw Error("give --study FILE");
   Study s = study;
   s.seed = p.seed;
   const std::string study_path = absolute_path(p.study);
   const std::string results = absolute_path(p.results.empty() ? default_results_dir(study_path) : p.results);
+  const std::string stem = stem_of(study_path);
+  // The study's files (and its results folder beside them by default) stay out of its inputs.
+  std::vector<NamedPath> inputs = named_paths("a sequence of the study", study_sequences(s));
+  inputs.push_back({"--config", config});
+  check_output_files({{"--study", p.study},
+                      {"the Slurm script", p.slurm ? stem + ".sbatch" : ""},
+                      {"the Slurm script", p.slurm ? stem + ".submit.sh" : ""}},
+                     inputs);
   write_study(study_path, s);
   const int units = int(study_units(s).size());
   int shards = p.shards > 0 ? p.shards : std::min(units, kMaxArrayTasks);
@@ -77,7 +86,6 @@ void plan(const Study& study, PlanArgs p) {
   o.study_path = study_path;
   o.results_dir = results;
   o.shards = shards;
-  const std::string stem = stem_of(study_path);
   if (p.slurm) {
     if (shards > kMaxArrayTasks) {
       std::cerr << "plan: warning: " << shards << " array tasks exceed Slurm's default MaxArraySize (1001)\n";
@@ -127,7 +135,8 @@ void add_plan_command(CLI::App& app) {
       if (threads && threads->count() > 0 && sub->get_option("--cpus-per-task")->count() == 0) {
         args.launch.threads = std::max(1, threads->as<int>());
       }
-      plan(make(), args);
+      const CLI::Option* config = sub->get_option_no_throw("--config");
+      plan(make(), args, config && config->count() > 0 ? config->as<std::string>() : "");
     });
   }
 }

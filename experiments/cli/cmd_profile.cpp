@@ -39,7 +39,7 @@ void add_profile_command(CLI::App& app) {
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
   cmd->callback([a] {
-    check_output_folder({"--output", a->output});
+    check_output_folder({"--output", a->output}, {{"sequence", a->o.sequence_dir}, a->tracker->config_input()});
     ProfileOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.tracker = a->tracker->options();

@@ -47,7 +47,9 @@ StudyFactory add_report_flags(CLI::App* cmd) {
   cmd->add_flag("--no-pareto", a->no_pareto, "skip the Pareto fronts");
   cmd->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib)");
   return [a] {
-    check_output_folder({"--output", a->output});
+    std::vector<NamedPath> inputs = named_paths("--sequences", a->o.sequences);
+    inputs.push_back(a->tracker->config_input());
+    check_output_folder({"--output", a->output}, inputs);
     ReportOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);

@@ -37,7 +37,9 @@ StudyFactory add_sweep_flags(CLI::App* cmd) {
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for sweep.csv / sweep.json / sweep.md")->required();
   return [a] {
-    check_output_folder({"--output", a->output});
+    std::vector<NamedPath> inputs = named_paths("--sequences", a->o.sequences);
+    inputs.push_back(a->tracker->config_input());
+    check_output_folder({"--output", a->output}, inputs);
     SweepOptions o = a->o;
     if (a->lambda_points > 0) o.lambdas = log_grid(a->lambda_min, a->lambda_max, a->lambda_points);
     if (a->eps_points > 0) o.epsilons = log_grid(a->eps_min, a->eps_max, a->eps_points);

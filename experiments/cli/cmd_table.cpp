@@ -36,7 +36,9 @@ StudyFactory add_table_flags(CLI::App* cmd) {
       ->check(CLI::Range(1e-3, 1e6));
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   return [a] {
-    check_output_folder({"--output", a->output});
+    std::vector<NamedPath> inputs = named_paths("--sequences", a->sequences);
+    inputs.push_back(a->tracker->config_input());
+    check_output_folder({"--output", a->output}, inputs);
     MatrixOptions o;
     o.sequences = a->sequences;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));

@@ -26,7 +26,9 @@ void add_work_command(CLI::App& app) {
     const Study study = read_study(a->study);
     const ShardSpec shard = parse_shard(a->shard);
     const std::string results = a->results.empty() ? default_results_dir(a->study) : a->results;
-    check_output_folder({"--results", results});
+    std::vector<NamedPath> inputs = named_paths("a sequence of the study", study_sequences(study));
+    inputs.push_back({"the study", a->study});
+    check_output_folder({"--results", results}, inputs);
     const WorkSummary summary = work_shard(study, shard, results, std::cerr);
     finish_with_failures(summary.failed, summary.ran, a->keep_going);
   });

@@ -61,10 +61,19 @@ int main(int argc, char** argv) {
   ex::add_work_command(app);
   ex::add_merge_command(app);
   ex::add_loso_command(app);
-  // Exit codes: 0 when every unit produced its result, 2 for a usage error (the command line
-  // does not parse: unknown flag, missing or malformed value), 1 for every other error.
+  // Exit codes (README, "Outcomes and exit codes"): 0 when every unit produced its result; 2
+  // for a command line of the wrong shape (unknown command or flag, a required argument or a
+  // value missing, flags that exclude each other); 1 for every other error, including a value
+  // a flag refuses (out of range, not a number, no such file), as the same value in a
+  // configuration or study file is.
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ValidationError& e) {
+    std::cerr << "bivo: error: " << e.what() << "\n";
+    return 1;
+  } catch (const CLI::ConversionError& e) {
+    std::cerr << "bivo: error: " << e.what() << "\n";
+    return 1;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints the message (or the --help text, code 0)
     return code == 0 ? 0 : 2;

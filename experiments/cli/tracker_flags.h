@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "experiments/output_set.h"
 #include "experiments/tracker_option_table.h"
 #include "odometry/tracker.h"
 
@@ -27,6 +28,7 @@ class TrackerFlags {
   odometry::TrackerOptions options() const;
   // The --config path ("" when not given).
   const std::string& config_path() const { return *config_; }
+  NamedPath config_input() const { return {"--config", *config_}; }
 
  private:
   struct Flag {

@@ -113,6 +113,17 @@ void check_loso(const LosoOptions& o) {
 
 }  // namespace
 
+std::vector<std::string> study_sequences(const Study& s) {
+  std::vector<std::string> out;
+  if (s.table) out.insert(out.end(), s.table->sequences.begin(), s.table->sequences.end());
+  if (s.sweep) out.insert(out.end(), s.sweep->sequences.begin(), s.sweep->sequences.end());
+  if (s.pareto) {
+    for (const auto& p : s.pareto->pairs) out.push_back(p.sequence_dir);
+  }
+  if (s.loso) out.insert(out.end(), s.loso->sequences.begin(), s.loso->sequences.end());
+  return out;
+}
+
 std::string method_spec_text(const MethodSpec& spec) {
   return spec.backend.empty() ? spec.method : spec.method + ":" + spec.backend;
 }
@@ -160,6 +171,7 @@ json study_to_json(const Study& s) {
   j["seed"] = s.seed;
   j["plots"] = s.plots;
   if (s.report) j["report"] = {{"title", s.report->title}, {"preamble", s.report->preamble}};
+  j["study_hash"] = study_hash(s);
   return j;
 }
 
@@ -249,8 +261,13 @@ Study study_from_json(const json& j, const std::string& where) {
     throw Error(where + ": " + e.what());
   }
   // The hash `bivo plan` recorded: an edit by hand (max_frames, a method) would otherwise mix
-  // results of two different studies under one name.
-  if (recorded_hash && (!recorded_hash->is_string() || recorded_hash->get<std::string>() != study_hash(s))) {
+  // results of two different studies under one name. A file without one cannot be checked.
+  if (!recorded_hash) {
+    throw Error(where +
+                ": the study has no study_hash, so edits since it was planned cannot be detected (written "
+                "by an older bivo?); plan it again with `bivo plan`");
+  }
+  if (!recorded_hash->is_string() || recorded_hash->get<std::string>() != study_hash(s)) {
     throw Error(where + ": the study was changed after it was planned (its hash is " + study_hash(s) + ", recorded " +
                 recorded_hash->dump() + "); plan it again with `bivo plan`");
   }
@@ -263,8 +280,7 @@ Study read_study(const std::string& path) {
 
 void write_study(const std::string& path, const Study& study) {
   check_study(study);
-  json j = study_to_json(study);
-  j["study_hash"] = study_hash(study);
+  const json j = study_to_json(study);
   const std::string text = j.dump(2) + "\n";
   odometry::io::write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }

@@ -13,6 +13,7 @@
 // The study file (JSON) is strict like tracker_config.h (an unknown key is an error naming
 // its path); the tracker options are tracker_config's JSON, bit-exact:
 //   {"format": "bivo-study", "version": 1, "kind": "report", "output": "/abs/report",
+//    "study_hash": "<study_hash>" (required: edits after planning are refused),
 //    "seed": 1, "plots": true, "tracker": {...tracker_config...},
 //    "table": {"sequences": [...], "methods": ["single", "bounded:ipm-full"],
 //              "first_frame": 0, "max_frames": -1},
@@ -74,6 +75,9 @@ struct Study {
 // sequences, a bad method or backend, an empty grid, a parameter that is no numeric tracker
 // option or a grid value outside its range).
 void check_study(const Study& study);
+
+// Every sequence folder the study reads, in part order (repeats possible).
+std::vector<std::string> study_sequences(const Study& study);
 
 // "bounded:ipm-full" / "single": the inverse of parse_method_spec.
 std::string method_spec_text(const MethodSpec& spec);
