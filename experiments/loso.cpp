@@ -144,15 +144,21 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
     row.sequence = ref[h]->sequence_name;
     row.reference = ref[h];
     row.train_worst = std::numeric_limits<double>::infinity();
+    double chosen_log_sum = std::numeric_limits<double>::infinity();
     for (double v : o.grid) {
-      double worst = 0.0;
+      double worst = 0.0, log_sum = 0.0;
       for (int s = 0; s < n; ++s) {
         if (s == h) continue;
         const LosoRun* r = at(s, v);
-        worst = std::max(worst, r && r->ok ? worst_ratio(*r, *ref[s]) : std::numeric_limits<double>::infinity());
+        const double w = r && r->ok ? worst_ratio(*r, *ref[s]) : std::numeric_limits<double>::infinity();
+        worst = std::max(worst, w);
+        log_sum += std::log(w);
       }
-      if (worst < row.train_worst) {  // ties keep the first grid value
+      // A parameter that does not move the worst sequence ties there: the geometric mean of
+      // the same ratios decides, then the first grid value.
+      if (worst < row.train_worst || (worst == row.train_worst && log_sum < chosen_log_sum)) {
         row.train_worst = worst;
+        chosen_log_sum = log_sum;
         row.chosen = v;
       }
     }

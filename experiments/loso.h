@@ -3,8 +3,9 @@
 // free parameter (e.g. robust's trust threshold) runs on every sequence at every grid value,
 // the reference method (single) once per sequence; then for each held-out sequence the value
 // is chosen on all the OTHER sequences (the smallest worst ratio to the reference over them,
-// translational and rotational RPE alike) and only the held-out sequence's RPE at that
-// value is reported. Fixed methods (no grid) are reported beside it for comparison.
+// translational and rotational RPE alike; on a tie, the smallest geometric mean of those
+// per-sequence worst ratios) and only the held-out sequence's RPE at that value is reported. Fixed methods (no grid)
+// are reported beside it for comparison.
 //
 //   LosoOptions o;  o.sequences = {...};  o.method = "robust";  o.parameter = "trust";
 //   o.grid = {30, 100, 300};  o.tracker.finest_level = 1;

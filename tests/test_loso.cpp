@@ -1,6 +1,7 @@
 // Leave-one-sequence-out (experiments/loso.h): the value chosen for a held-out sequence is
-// the one with the smallest worst ratio to the reference over the OTHER sequences, checked on
-// hand-made runs whose choice is known; bad inputs are refused before any run.
+// the one with the smallest worst ratio to the reference over the OTHER sequences (on a tie,
+// the smaller geometric mean), checked on hand-made runs whose choice is known; bad inputs
+// are refused before any run.
 #include <string>
 #include <vector>
 
@@ -54,6 +55,33 @@ TEST(Loso, EachHeldOutSequenceGetsTheValueChosenWithoutIt) {
   EXPECT_EQ(r.rows[2].chosen, 1.0);
   EXPECT_DOUBLE_EQ(r.rows[2].train_worst, 0.8);
   EXPECT_EQ(r.rows[2].held_out->rpe_rot, 1.5);
+}
+
+TEST(Loso, ATieOnTheWorstSequenceGoesToTheSmallerGeometricMean) {
+  LosoOptions o;
+  o.sequences = {"a", "b", "c"};
+  o.grid = {1.0, 2.0, 3.0};
+  std::vector<LosoRun> runs;
+  for (int s = 0; s < 3; ++s) runs.push_back(run(s, "single", 1.0, 1.0));
+  // Sequence a is 0.9x at every value (the value does not reach it); b and c tell them apart.
+  for (double v : o.grid) runs.push_back(run(0, "robust", 0.9, 0.8, true, v));
+  runs.push_back(run(1, "robust", 0.8, 0.8, true, 1.0));
+  runs.push_back(run(1, "robust", 0.4, 0.5, true, 2.0));
+  runs.push_back(run(1, "robust", 0.4, 0.5, true, 3.0));
+  runs.push_back(run(2, "robust", 0.7, 0.6, true, 1.0));
+  runs.push_back(run(2, "robust", 0.5, 0.3, true, 2.0));
+  runs.push_back(run(2, "robust", 0.3, 0.2, true, 3.0));
+  const LosoResult r = assemble_loso(o, runs);
+  ASSERT_EQ(r.rows.size(), 3u);
+  // Held out b: a ties at 0.9; c's 0.7 / 0.5 / 0.3 -> 3.
+  EXPECT_EQ(r.rows[1].chosen, 3.0);
+  EXPECT_DOUBLE_EQ(r.rows[1].train_worst, 0.9);
+  // Held out c: a ties at 0.9, b 0.8 / 0.5 / 0.5: 2 and 3 tie again -> the first, 2.
+  EXPECT_EQ(r.rows[2].chosen, 2.0);
+  // Held out a: worst 0.8 / 0.5 / 0.5 -> 2 and 3 tie, geometric mean sqrt(0.5 * 0.5) against
+  // sqrt(0.5 * 0.3) -> 3.
+  EXPECT_EQ(r.rows[0].chosen, 3.0);
+  EXPECT_DOUBLE_EQ(r.rows[0].train_worst, 0.5);
 }
 
 TEST(Loso, RefusesWhatCannotBeHeldOut) {
