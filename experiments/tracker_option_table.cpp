@@ -118,8 +118,9 @@ std::vector<TrackerOption> build_table() {
       number("policy.robust_kappa", "--robust-kappa", 0.0, kInf,
              "lambda = robust_kappa S_II / S_DD (1: joint's balance of the two residuals)",
              BIVO_FIELD(policy.robust_kappa), "robust"),
-      integer("policy.photometric_start_levels", "--photometric-start-levels", 0, 8,
-              "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off)",
+      integer("policy.photometric_start_levels", "--photometric-start-levels", -1, 8,
+              "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
+              "the method's own, 2 for joint, 1 for robust)",
               BIVO_FIELD(policy.photometric_start_levels)),
       integer("levels", "--levels", 1, 8, "pyramid levels (640x480 down to 640/2^(L-1))", BIVO_FIELD(levels)),
       integer("finest_level", "--finest-level", 0, 7,

@@ -82,9 +82,10 @@ struct PolicyParameters {
   static constexpr double kTrustOff = 1e12;
   double trust = kTrustOff;
   // methods joint, robust: the coarsest N levels first solve F_I alone (own t-weights) and
-  // start the bi-objective solve from its estimate (1: fr1/rpy pairs of 9-14 deg no longer
-  // fall into the depth objective's basin at 80x60; the textureless renderings unchanged).
-  int photometric_start_levels = 1;
+  // start the bi-objective solve from its estimate (fr1/rpy pairs of 9-14 deg no longer fall
+  // into the depth objective's basin at 80x60). -1 (auto): the method's own,
+  // method_photometric_start_levels().
+  int photometric_start_levels = -1;
   // method robust: lambda = robust_kappa S_II / S_DD, joint's balance of the two residuals
   // scaled down: where the image has texture the depth objective counts less (a biased depth
   // image pulls the estimate less), where it has none S_II / S_DD is large and depth still
@@ -133,6 +134,11 @@ JacobianKind method_jacobian(Method method, JacobianKind requested);
 // docs/results/robust.md); the others: 0 (the paper's r_D, the settings their defaults were
 // chosen with).
 int method_depth_noise_exponent(Method method, int requested);
+// The photometric start (PolicyParameters::photometric_start_levels) a method uses when asked
+// for -1 ("auto", the default); any other request is returned unchanged. joint: 2, robust
+// (and the methods that ignore it): 1; each chosen by leave-one-sequence-out
+// (docs/results/defaults.md, "Held out").
+int method_photometric_start_levels(Method method, int requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p);

@@ -248,6 +248,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   // noise-bounded evaluates F_I at each stage's final x after its solve.
   solver_options.keep_final_point = method == Method::kNoiseBounded;
 
+  const int photometric_start_levels = method_photometric_start_levels(method, options.policy.photometric_start_levels);
   Eigen::VectorXd x = se3::to_ambient(initial);
   bool any_level_solved = false;
   for (int level = levels - 1; level >= options.finest_level; --level) {
@@ -324,7 +325,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       return run(solvers::WeightedSum(lambda));
     };
     int start_iterations = 0;
-    if (uses_joint_weights(method) && !depth_distrusted && level >= levels - options.policy.photometric_start_levels) {
+    if (uses_joint_weights(method) && !depth_distrusted && level >= levels - photometric_start_levels) {
       // The photometric objective's basin is the wider one for large rotations (the depth
       // objective's landscape folds where points change surface): F_I alone first, with its
       // own weights, then the bi-objective solve from there.

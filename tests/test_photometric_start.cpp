@@ -1,0 +1,51 @@
+// The photometric start's "auto" (PolicyParameters::photometric_start_levels = -1): each
+// method's own number of levels, checked as a rule and on a real frame pair, where the default
+// run must be bit-identical to the run that asks for that number explicitly.
+#include <filesystem>
+#include <string>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "odometry/odometry_methods.h"
+#include "odometry/tracker.h"
+
+using namespace bivo::odometry;
+using namespace bivo::odometry::io;
+
+namespace {
+const std::string kData = std::string(BIVO_SHARED_DIR) + "/data/tum/";
+}  // namespace
+
+TEST(PhotometricStart, AutoIsTwoLevelsForJointAndOneForRobust) {
+  EXPECT_EQ(PolicyParameters{}.photometric_start_levels, -1);
+  EXPECT_EQ(method_photometric_start_levels(Method::kJoint, -1), 2);
+  EXPECT_EQ(method_photometric_start_levels(Method::kRobust, -1), 1);
+  EXPECT_EQ(method_photometric_start_levels(Method::kJoint, 0), 0);  // a request is kept
+  EXPECT_EQ(method_photometric_start_levels(Method::kRobust, 3), 3);
+}
+
+TEST(PhotometricStart, TheDefaultRunIsTheRunWithTheMethodsOwnLevels) {
+  const std::string dir = kData + "rgbd_dataset_freiburg1_desk";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;
+  const TumSequence seq = open_tum_sequence(dir, {});
+  const RgbdImage a = load_rgbd_image(seq.frames[2]);
+  const RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
+  TrackerOptions o;
+  o.finest_level = 1;
+  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);
+  const PreparedFrame cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const auto run = [&](const std::string& method, int levels) {
+    TrackerOptions m = o;
+    m.method = method;
+    m.policy.photometric_start_levels = levels;
+    return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), m);
+  };
+  for (const auto& [method, own, other] : {std::tuple<std::string, int, int>{"joint", 2, 1}, {"robust", 1, 2}}) {
+    const PairResult by_default = run(method, -1), asked = run(method, own), not_own = run(method, other);
+    EXPECT_TRUE(by_default.T_21.matrix() == asked.T_21.matrix()) << method;
+    EXPECT_EQ(by_default.iterations, asked.iterations) << method;
+    // The count reaches the tracker: another one solves the pair along another path.
+    EXPECT_FALSE(by_default.T_21.matrix() == not_own.T_21.matrix()) << method;
+  }
+}
