@@ -125,6 +125,10 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.trust >= 0.0 && std::isfinite(options.policy.trust))) {
     throw Error("trust threshold must be finite and >= 0, got " + std::to_string(options.policy.trust));
   }
+  if (options.policy.photometric_start_levels < -1) {
+    throw Error("photometric start levels must be >= 0, or -1 for the method's own, got " +
+                std::to_string(options.policy.photometric_start_levels));
+  }
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }

@@ -9,6 +9,7 @@
 
 #include "odometry/odometry_methods.h"
 #include "odometry/tracker.h"
+#include "solvers/error.h"
 
 using namespace bivo::odometry;
 using namespace bivo::odometry::io;
@@ -23,6 +24,15 @@ TEST(PhotometricStart, AutoIsTwoLevelsForJointAndOneForRobust) {
   EXPECT_EQ(method_photometric_start_levels(Method::kRobust, -1), 1);
   EXPECT_EQ(method_photometric_start_levels(Method::kJoint, 0), 0);  // a request is kept
   EXPECT_EQ(method_photometric_start_levels(Method::kRobust, 3), 3);
+  TrackerOptions bad;
+  bad.policy.photometric_start_levels = -2;
+  try {
+    validate(bad);
+    ADD_FAILURE() << "-2 accepted";
+  } catch (const bivo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("photometric start levels must be >= 0, or -1"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("got -2"), std::string::npos);
+  }
 }
 
 TEST(PhotometricStart, TheDefaultRunIsTheRunWithTheMethodsOwnLevels) {
