@@ -98,7 +98,7 @@ void report_pairs(benchmark::State& state, const std::vector<double>& per_pair, 
 }
 
 // fixed_eps > 0: method bounded with that per-unit-weight bound instead of the pi(D) rule.
-// extrapolation: TrackerOptions::step_extrapolation (1 = off, the default).
+// extrapolation: TrackerOptions::step_extrapolation (1 = off; -1, the default: the method's own).
 void rpy_pairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps, bool wall,
                double extrapolation) {
   const Frames* f = frames_or_skip(state);
@@ -144,7 +144,7 @@ void rpy_pairs(benchmark::State& state, const std::string& method, int finest, i
 
 void BM_RpyPairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps,
                  bool wall) {
-  rpy_pairs(state, method, finest, threads, fixed_eps, wall, 1.0);
+  rpy_pairs(state, method, finest, threads, fixed_eps, wall, -1.0);
 }
 
 #ifdef BIVO_BENCH_STREAM

@@ -99,7 +99,8 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
   po.solver.max_iterations = base.max_iterations;
   po.solver.step_tolerance = base.step_tolerance;
   po.solver.relative_decrease_tolerance = base.relative_decrease_tolerance;
-  po.solver.max_step_extrapolation = base.step_extrapolation;
+  po.solver.max_step_extrapolation =
+      odometry::method_step_extrapolation(odometry::parse_method(base.method), base.step_extrapolation);
   if (base.pixel_motion_tolerance > 0.0) {
     // Warm-started neighbours often differ by less than anyone can see: stop there.
     odometry::RgbdOdometryProblem* p = problem.get();

@@ -118,6 +118,9 @@ std::vector<TrackerOption> build_table() {
       number("policy.robust_kappa", "--robust-kappa", 0.0, kInf,
              "lambda = robust_kappa S_II / S_DD (1: joint's balance of the two residuals)",
              BIVO_FIELD(policy.robust_kappa), "robust"),
+      number("policy.robust_finest_tolerance", "--robust-finest-tolerance", 0.0, kInf,
+             "relative merit change that ends the finest level (--joint-tolerance ends the coarser ones)",
+             BIVO_FIELD(policy.robust_finest_tolerance), "robust"),
       integer("policy.photometric_start_levels", "--photometric-start-levels", -1, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
               "the method's own, 2 for joint, 1 for robust)",
@@ -137,9 +140,9 @@ std::vector<TrackerOption> build_table() {
       number("pixel_motion_tolerance", "--pixel-motion-tolerance", 0.0, kInf,
              "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
              BIVO_FIELD(pixel_motion_tolerance)),
-      number("step_extrapolation", "--step-extrapolation", 1.0, 100.0,
+      number("step_extrapolation", "--step-extrapolation", -1.0, 100.0,
              "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated by, to "
-             "the limit of its geometric tail (1: off)",
+             "the limit of its geometric tail (1: off; -1: the method's own, 1.9 for robust, else off)",
              BIVO_FIELD(step_extrapolation)),
       integer("exact_finish_iterations", "--exact-finish-iterations", 0, 1000,
               "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at "
@@ -188,7 +191,7 @@ std::vector<TrackerOption> build_table() {
             BIVO_FIELD(problem.model_f2)),
       other(T::kName, "problem.jacobian", "--jacobian",
             "image gradients of the Jacobians: forward, inverse, esm or auto (the method's default: inverse for "
-            "joint, forward otherwise)",
+            "joint, inverse and forward at the finest level for robust, forward otherwise)",
             BIVO_NAMED(problem.jacobian, odometry::to_string, odometry::parse_jacobian_kind)),
       integer("problem.threads", "--threads", 1, 256,
               "threads of the per-pixel passes and the pyramid (results do not depend on it)",

@@ -147,8 +147,9 @@ double residual_lambda(Method method, const RgbdLinearizationStats& stats, const
   throw Error(std::string("method '") + to_string(method) + "' does not take lambda from the residuals");
 }
 
-JacobianKind method_jacobian(Method method, JacobianKind requested) {
+JacobianKind method_jacobian(Method method, JacobianKind requested, bool finest_level) {
   if (requested != JacobianKind::kMethodDefault) return requested;
+  if (method == Method::kRobust && finest_level) return JacobianKind::kForward;
   return uses_joint_weights(method) ? JacobianKind::kInverse : JacobianKind::kForward;
 }
 
@@ -160,6 +161,11 @@ int method_depth_noise_exponent(Method method, int requested) {
 int method_photometric_start_levels(Method method, int requested) {
   if (requested >= 0) return requested;
   return method == Method::kJoint ? 2 : 1;
+}
+
+double method_step_extrapolation(Method method, double requested) {
+  if (requested != -1.0) return requested;
+  return method == Method::kRobust ? 1.9 : 1.0;
 }
 
 }  // namespace bivo::odometry

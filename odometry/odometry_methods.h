@@ -91,6 +91,10 @@ struct PolicyParameters {
   // image pulls the estimate less), where it has none S_II / S_DD is large and depth still
   // decides. Chosen by leave-one-sequence-out (docs/results/robust.md).
   double robust_kappa = 0.3;
+  // method robust: the relative merit change that ends the finest level (joint_tolerance ends
+  // the coarser ones). A speed setting: 1e-3 saves CPU at full resolution, but held out the
+  // protocol keeps 1e-5 in every fold (docs/results/robust.md, "Cost").
+  double robust_finest_tolerance = 1e-5;
 };
 
 // Method robust evaluates its depth trust test (PolicyParameters::trust below kTrustOff).
@@ -122,11 +126,14 @@ double method_lambda(Method method, const FrameStatistics& s, const PolicyParame
 
 struct RgbdLinearizationStats;
 enum class JacobianKind;  // rgbd_problem.h
-// The Jacobian kind a method uses when asked for "auto" (the tracker's default); any other
-// request is returned unchanged. joint: inverse (reference-side gradients, as the IROS 2013
-// tracker it reproduces, dvo_core, precomputes them per level); every other method: forward.
-// Chosen on all the data at hand (docs/odometry.md, "How the defaults were chosen").
-JacobianKind method_jacobian(Method method, JacobianKind requested);
+// The Jacobian kind a method uses at a level when asked for "auto" (the tracker's default); any
+// other request is returned unchanged. joint: inverse (reference-side gradients, as the IROS
+// 2013 tracker it reproduces, dvo_core, precomputes them per level); robust: inverse at the
+// coarser levels and forward (exact) at the finest, where precomputing reference-side gradients
+// and then finishing with exact ones cost two solves at full resolution
+// (docs/results/robust.md, "Cost"); every other method: forward. Chosen on all the data at hand
+// (docs/odometry.md, "How the defaults were chosen").
+JacobianKind method_jacobian(Method method, JacobianKind requested, bool finest_level = false);
 // The depth noise exponent (RgbdProblemOptions::depth_noise_exponent) a method uses when asked
 // for -1 ("auto", the tracker's default); any other request is returned unchanged. joint and
 // robust: 3 (their robust scales assume one noise level for all pixels, which over-trusts far
@@ -139,6 +146,12 @@ int method_depth_noise_exponent(Method method, int requested);
 // (and the methods that ignore it): 1; each chosen by leave-one-sequence-out
 // (docs/results/defaults.md, "Held out").
 int method_photometric_start_levels(Method method, int requested);
+// The step extrapolation cap (TrackerOptions::step_extrapolation) a method uses when asked for
+// -1 ("auto", the tracker's default); any other request is returned unchanged. robust: 1.9 (its
+// re-estimated weights make every level crawl towards their fixed point; held out,
+// docs/results/robust.md, "Cost"); the others: 1 (off, the settings their defaults were chosen
+// with).
+double method_step_extrapolation(Method method, double requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).
 double residual_lambda(Method method, const RgbdLinearizationStats& stats, const PolicyParameters& p);

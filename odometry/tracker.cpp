@@ -132,8 +132,14 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
-  if (!(options.step_extrapolation >= 1.0 && options.step_extrapolation <= 100.0)) {
-    throw Error("step extrapolation must be in [1, 100] (1 = off), got " + std::to_string(options.step_extrapolation));
+  if (!(options.step_extrapolation == -1.0 ||
+        (options.step_extrapolation >= 1.0 && options.step_extrapolation <= 100.0))) {
+    throw Error("step extrapolation must be in [1, 100] (1 = off), or -1 for the method's own, got " +
+                std::to_string(options.step_extrapolation));
+  }
+  if (!(options.policy.robust_finest_tolerance >= 0.0 && std::isfinite(options.policy.robust_finest_tolerance))) {
+    throw Error("robust finest tolerance must be finite and >= 0, got " +
+                std::to_string(options.policy.robust_finest_tolerance));
   }
   if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
     throw Error("pixel motion tolerance must be finite and >= 0, got " +
@@ -231,7 +237,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   RgbdProblemOptions problem_options = options.problem;
   problem_options.depth_first = method == Method::kDepth;
   problem_options.joint_weights = uses_joint_weights(method);
-  problem_options.jacobian = method_jacobian(method, problem_options.jacobian);
+  const JacobianKind requested_jacobian = problem_options.jacobian;
+  problem_options.jacobian = method_jacobian(method, requested_jacobian);
   problem_options.depth_noise_exponent = method_depth_noise_exponent(method, problem_options.depth_noise_exponent);
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
@@ -241,12 +248,12 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
   solver_options.step_tolerance = options.step_tolerance;
-  solver_options.relative_decrease_tolerance =
+  const double level_tolerance =
       uses_joint_weights(method) ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
   // method robust: once a level's depth failed the trust test, the finer levels are
   // photometric (a biased sensor is biased at every resolution).
   bool depth_distrusted = false;
-  solver_options.max_step_extrapolation = options.step_extrapolation;
+  solver_options.max_step_extrapolation = method_step_extrapolation(method, options.step_extrapolation);
   solver_options.profile = &result.profile;
   solver_options.verbosity = options.verbosity;
   // noise-bounded evaluates F_I at each stage's final x after its solve.
@@ -259,7 +266,11 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     LevelResult lr;
     lr.level = level;
     const auto t_reference = Clock::now();
+    const bool finest = level == options.finest_level;
+    solver_options.relative_decrease_tolerance =
+        method == Method::kRobust && finest ? options.policy.robust_finest_tolerance : level_tolerance;
     RgbdProblemOptions level_options = problem_options;
+    level_options.jacobian = method_jacobian(method, requested_jacobian, finest);
     if (depth_distrusted) {  // robust: single's problem
       level_options.joint_weights = false;
       level_options.model_f2 = false;
@@ -299,9 +310,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
           lr.relaxed = true;
           return run(solvers::WeightedSum(0.0));
         }
-        const RobustLevel rl =
-            solve_robust_level(problem, options.policy, run_with, solver_options,
-                               level == options.finest_level ? options.exact_finish_iterations : 0, x);
+        const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
+                                                  finest ? options.exact_finish_iterations : 0, x);
         lr.relaxed = depth_distrusted = rl.distrusted;
         lr.trust = rl.statistic;
         level_lambda = rl.lambda;
@@ -345,8 +355,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
     // point is not the cost's stationary point; the exact finish continues the finest level
     // from there with current-side gradients (TrackerOptions::exact_finish_iterations).
-    if (method != Method::kRobust && options.exact_finish_iterations > 0 && level == options.finest_level &&
-        problem_options.jacobian != JacobianKind::kForward && x.allFinite()) {
+    if (method != Method::kRobust && options.exact_finish_iterations > 0 && finest &&
+        level_options.jacobian != JacobianKind::kForward && x.allFinite()) {
       const int first_iterations = summary.iterations;
       problem.set_jacobian(JacobianKind::kForward);  // weights and scales carried over
       const int level_iterations = solver_options.max_iterations;
@@ -423,7 +433,7 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   RgbdProblemOptions po = options.problem;
   po.depth_first = parse_method(options.method) == Method::kDepth;
   po.joint_weights = uses_joint_weights(parse_method(options.method));
-  po.jacobian = method_jacobian(parse_method(options.method), po.jacobian);
+  po.jacobian = method_jacobian(parse_method(options.method), po.jacobian, level == options.finest_level);
   po.depth_noise_exponent = method_depth_noise_exponent(parse_method(options.method), po.depth_noise_exponent);
   po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);

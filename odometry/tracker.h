@@ -70,9 +70,10 @@ struct TrackerOptions {
   // and stalled depth-heavy methods on slow fr3/office motion; docs/odometry.md "Speed").
   double pixel_motion_tolerance = 0.0;
   // Largest factor a crawling Gauss-Newton step may be extrapolated by
-  // (solvers::SolverOptions::max_step_extrapolation; 1 = off, the default: it cuts
-  // iterations but moves the synthetic scenes' RPE by more than 2 %; docs/results/speed.md).
-  double step_extrapolation = 1.0;
+  // (solvers::SolverOptions::max_step_extrapolation; 1 = off; -1, the default: the method's
+  // own, method_step_extrapolation(): on for robust only, since for the other methods it cut
+  // iterations but moved the synthetic scenes' RPE by more than 2 %; docs/results/speed.md).
+  double step_extrapolation = -1.0;
   // With reference-side gradients (Jacobian inverse or esm: joint's default) the Gauss-Newton
   // fixed point is that of an approximate Jacobian, not the cost's stationary point; N > 0
   // continues the finest level from there with current-side (exact) gradients for at most N

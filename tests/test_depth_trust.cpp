@@ -111,6 +111,9 @@ PairResult estimate(const RenderedPair& p, const io::RgbdImage& current, const s
   // make the depth objective pull less, which is what the test must see through here.
   o.policy.robust_kappa = 1.0;
   o.problem.depth_noise_exponent = 0;
+  // T is read at converged estimates: at the default step tolerance a level may end one
+  // step early, and that remainder alone can weigh as much as a 3 % bias at full resolution.
+  o.step_tolerance = 1e-6;
   const PreparedFrame ref = prepare_frame(p.reference, p.sequence.intrinsics, o.levels);
   const PreparedFrame cur = prepare_frame(current, p.sequence.intrinsics, o.levels);
   return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), o);
@@ -173,7 +176,7 @@ TEST(DepthTrust, FiresOnBiasedDepthAndNotOnExactDepth) {
   EXPECT_EQ(clean.relaxed_levels, 0);
   // The biased statistics exceed the threshold at some level (then the test fires and
   // latches), and at full resolution the biased depth lies several times further from the
-  // photometric estimate than the exact one (measured: 106 exact, 844 x1.03, 3493 radial).
+  // photometric estimate than the exact one (measured: 19 exact, 629 x1.03, 1887 radial).
   const auto largest = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
   EXPECT_GT(largest(statistics[1]), threshold);
   EXPECT_GT(largest(statistics[2]), threshold);

@@ -350,8 +350,9 @@ TEST(RgbdKernels, EveryJacobianKindRecoversTheMotion) {
   EXPECT_THROW(parse_jacobian_kind("newton"), Error);
 }
 
-// "auto" (the tracker's default) is each method's own kind: inverse for joint, forward for
-// the others; an explicit request wins; a problem refuses the unresolved name.
+// "auto" (the tracker's default) is each method's own kind: inverse for joint, inverse and then
+// forward at the finest level for robust, forward for the others; an explicit request wins; a
+// problem refuses the unresolved name.
 TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
   EXPECT_EQ(TrackerOptions{}.problem.jacobian, JacobianKind::kMethodDefault);
   EXPECT_EQ(parse_jacobian_kind("auto"), JacobianKind::kMethodDefault);
@@ -360,6 +361,11 @@ TEST(RgbdKernels, AutoJacobianIsTheMethodsOwnKind) {
        {Method::kSingle, Method::kDepth, Method::kWeighted, Method::kBounded, Method::kScaled, Method::kNoiseBounded}) {
     EXPECT_EQ(method_jacobian(m, JacobianKind::kMethodDefault), JacobianKind::kForward) << to_string(m);
   }
+  EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kMethodDefault, true), JacobianKind::kInverse);
+  // robust: reference-side gradients at the coarser levels, exact ones at the finest.
+  EXPECT_EQ(method_jacobian(Method::kRobust, JacobianKind::kMethodDefault), JacobianKind::kInverse);
+  EXPECT_EQ(method_jacobian(Method::kRobust, JacobianKind::kMethodDefault, true), JacobianKind::kForward);
+  EXPECT_EQ(method_jacobian(Method::kRobust, JacobianKind::kInverse, true), JacobianKind::kInverse);
   EXPECT_EQ(method_jacobian(Method::kJoint, JacobianKind::kForward), JacobianKind::kForward);
   EXPECT_EQ(method_jacobian(Method::kSingle, JacobianKind::kEsm), JacobianKind::kEsm);
   RgbdProblemOptions unresolved;

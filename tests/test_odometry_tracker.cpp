@@ -243,10 +243,13 @@ TEST(Tracker, AutoLoadThreadsTakeOnlyFreeCores) {
   o.load_threads = 17;
   EXPECT_THROW(validate(o), Error);
   o = TrackerOptions{};
-  EXPECT_EQ(o.step_extrapolation, 1.0);  // off by default
+  EXPECT_EQ(o.step_extrapolation, -1.0);  // the method's own by default
   o.step_extrapolation = 0.5;
-  EXPECT_NE(error_of([&] { validate(o); }).find("step extrapolation must be in [1, 100] (1 = off), got 0.5"),
+  EXPECT_NE(error_of([&] { validate(o); }).find("step extrapolation must be in [1, 100] (1 = off), or -1"),
             std::string::npos);
+  EXPECT_NE(error_of([&] { validate(o); }).find("got 0.5"), std::string::npos);
+  o.step_extrapolation = -0.5;
+  EXPECT_THROW(validate(o), Error);
   o.step_extrapolation = NAN;
   EXPECT_THROW(validate(o), Error);
 }

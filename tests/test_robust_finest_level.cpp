@@ -1,0 +1,78 @@
+// Method robust's finest level: exact (current-side) gradients from the start, its own
+// tolerance and step extrapolation by default. Checked as rules and on a real frame pair, where
+// the default run must be bit-identical to the run that asks for the same settings explicitly
+// and differ from runs that ask for others (each setting reaches the tracker).
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "odometry/odometry_methods.h"
+#include "odometry/rgbd_problem.h"
+#include "odometry/tracker.h"
+#include "solvers/error.h"
+
+using namespace bivo::odometry;
+using namespace bivo::odometry::io;
+
+namespace {
+const std::string kData = std::string(BIVO_SHARED_DIR) + "/data/tum/";
+
+bool same(const PairResult& a, const PairResult& b) {
+  return a.T_21.matrix() == b.T_21.matrix() && a.iterations == b.iterations;
+}
+}  // namespace
+
+TEST(RobustFinestLevel, ExtrapolationAutoIsRobustsOwn) {
+  EXPECT_EQ(TrackerOptions{}.step_extrapolation, -1.0);
+  EXPECT_EQ(method_step_extrapolation(Method::kRobust, -1.0), 1.9);
+  for (const Method m : {Method::kSingle, Method::kWeighted, Method::kJoint, Method::kNoiseBounded}) {
+    EXPECT_EQ(method_step_extrapolation(m, -1.0), 1.0) << to_string(m);
+  }
+  EXPECT_EQ(method_step_extrapolation(Method::kRobust, 1.0), 1.0);  // a request is kept
+  EXPECT_EQ(method_step_extrapolation(Method::kSingle, 3.0), 3.0);
+  TrackerOptions bad;
+  bad.policy.robust_finest_tolerance = -1e-3;
+  try {
+    validate(bad);
+    ADD_FAILURE() << "-1e-3 accepted";
+  } catch (const bivo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("robust finest tolerance must be finite and >= 0"), std::string::npos);
+  }
+}
+
+TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
+  const std::string dir = kData + "rgbd_dataset_freiburg1_desk";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;
+  const TumSequence seq = open_tum_sequence(dir, {});
+  const RgbdImage a = load_rgbd_image(seq.frames[2]);
+  const RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
+  TrackerOptions o;
+  o.method = "robust";
+  o.finest_level = 1;
+  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);
+  const PreparedFrame cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const auto run = [&](const TrackerOptions& m) { return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), m); };
+  const PairResult by_default = run(o);
+  TrackerOptions asked = o, no_extrapolation = o, loose = o, inverse = o;
+  asked.step_extrapolation = 1.9;
+  asked.policy.robust_finest_tolerance = 1e-5;
+  no_extrapolation.step_extrapolation = 1.0;
+  loose.policy.robust_finest_tolerance = 1e-2;
+  inverse.problem.jacobian = JacobianKind::kInverse;  // at every level, then the exact finish
+  EXPECT_TRUE(same(by_default, run(asked)));
+  EXPECT_FALSE(same(by_default, run(no_extrapolation)));
+  const PairResult loose_run = run(loose);
+  EXPECT_FALSE(same(by_default, loose_run));
+  EXPECT_LT(loose_run.levels.back().iterations, by_default.levels.back().iterations);
+  EXPECT_FALSE(same(by_default, run(inverse)));
+  // The finest level alone: auto is the forward Jacobian there.
+  TrackerOptions one_level = o, one_level_forward = o;
+  one_level.levels = one_level_forward.levels = 2;
+  one_level_forward.problem.jacobian = JacobianKind::kForward;
+  const PreparedFrame ref2 = prepare_frame(a, seq.intrinsics, 2), cur2 = prepare_frame(b, seq.intrinsics, 2);
+  const auto run2 = [&](const TrackerOptions& m) {
+    return estimate_motion(ref2, cur2, Eigen::Isometry3d::Identity(), m);
+  };
+  EXPECT_TRUE(same(run2(one_level), run2(one_level_forward)));
+}
