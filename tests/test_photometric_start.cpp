@@ -1,7 +1,6 @@
 // The photometric start's "auto" (PolicyParameters::photometric_start_levels = -1): each
 // method's own number of levels, checked as a rule and on a real frame pair, where the default
 // run must be bit-identical to the run that asks for that number explicitly.
-#include <filesystem>
 #include <string>
 #include <tuple>
 
@@ -10,13 +9,10 @@
 #include "odometry/odometry_methods.h"
 #include "odometry/tracker.h"
 #include "solvers/error.h"
+#include "tests/support/real_pair.h"
 
 using namespace bivo::odometry;
 using namespace bivo::odometry::io;
-
-namespace {
-const std::string kData = std::string(BIVO_SHARED_DIR) + "/data/tum/";
-}  // namespace
 
 TEST(PhotometricStart, AutoIsTwoLevelsForJointAndOneForRobust) {
   EXPECT_EQ(PolicyParameters{}.photometric_start_levels, -1);
@@ -36,15 +32,11 @@ TEST(PhotometricStart, AutoIsTwoLevelsForJointAndOneForRobust) {
 }
 
 TEST(PhotometricStart, TheDefaultRunIsTheRunWithTheMethodsOwnLevels) {
-  const std::string dir = kData + "rgbd_dataset_freiburg1_desk";
-  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;
-  const TumSequence seq = open_tum_sequence(dir, {});
-  const RgbdImage a = load_rgbd_image(seq.frames[2]);
-  const RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
   TrackerOptions o;
   o.finest_level = 1;
-  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);
-  const PreparedFrame cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const bivo::testing::RealPair pair = bivo::testing::fr1_desk_pair(o.levels);
+  if (!pair.reference) GTEST_SKIP() << "shared data absent: " << pair.folder;
+  const PreparedFrame &ref = *pair.reference, &cur = *pair.current;
   const auto run = [&](const std::string& method, int levels) {
     TrackerOptions m = o;
     m.method = method;

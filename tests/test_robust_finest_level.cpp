@@ -2,7 +2,6 @@
 // tolerance and step extrapolation by default. Checked as rules and on a real frame pair, where
 // the default run must be bit-identical to the run that asks for the same settings explicitly
 // and differ from runs that ask for others (each setting reaches the tracker).
-#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,13 +10,12 @@
 #include "odometry/rgbd_problem.h"
 #include "odometry/tracker.h"
 #include "solvers/error.h"
+#include "tests/support/real_pair.h"
 
 using namespace bivo::odometry;
 using namespace bivo::odometry::io;
 
 namespace {
-const std::string kData = std::string(BIVO_SHARED_DIR) + "/data/tum/";
-
 bool same(const PairResult& a, const PairResult& b) {
   return a.T_21.matrix() == b.T_21.matrix() && a.iterations == b.iterations;
 }
@@ -42,16 +40,12 @@ TEST(RobustFinestLevel, ExtrapolationAutoIsRobustsOwn) {
 }
 
 TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
-  const std::string dir = kData + "rgbd_dataset_freiburg1_desk";
-  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;
-  const TumSequence seq = open_tum_sequence(dir, {});
-  const RgbdImage a = load_rgbd_image(seq.frames[2]);
-  const RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
   TrackerOptions o;
   o.method = "robust";
   o.finest_level = 1;
-  const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);
-  const PreparedFrame cur = prepare_frame(b, seq.intrinsics, o.levels);
+  const bivo::testing::RealPair pair = bivo::testing::fr1_desk_pair(o.levels), pair2 = bivo::testing::fr1_desk_pair(2);
+  if (!pair.reference) GTEST_SKIP() << "shared data absent: " << pair.folder;
+  const PreparedFrame &ref = *pair.reference, &cur = *pair.current;
   const auto run = [&](const TrackerOptions& m) { return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), m); };
   const PairResult by_default = run(o);
   TrackerOptions asked = o, no_extrapolation = o, loose = o, inverse = o;
@@ -70,9 +64,8 @@ TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
   TrackerOptions one_level = o, one_level_forward = o;
   one_level.levels = one_level_forward.levels = 2;
   one_level_forward.problem.jacobian = JacobianKind::kForward;
-  const PreparedFrame ref2 = prepare_frame(a, seq.intrinsics, 2), cur2 = prepare_frame(b, seq.intrinsics, 2);
   const auto run2 = [&](const TrackerOptions& m) {
-    return estimate_motion(ref2, cur2, Eigen::Isometry3d::Identity(), m);
+    return estimate_motion(*pair2.reference, *pair2.current, Eigen::Isometry3d::Identity(), m);
   };
   EXPECT_TRUE(same(run2(one_level), run2(one_level_forward)));
 }
