@@ -33,8 +33,14 @@ namespace {
 
 using bivo::testing::error_of;
 
+// The process's scratch folder, removed with everything in it when the process ends.
+const fs::path& scratch_root() {
+  static const bivo::testing::TempDir root("bivo_odometry_data");
+  return root.path;
+}
+
 std::string fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("bivo_odometry_data_" + std::to_string(::getpid())) / name;
+  const fs::path dir = scratch_root() / name;
   fs::remove_all(dir);
   fs::create_directories(dir / "rgb");
   fs::create_directories(dir / "depth");

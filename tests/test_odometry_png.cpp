@@ -22,10 +22,10 @@ namespace {
 
 using bivo::testing::error_of;
 
+// The process's scratch folder, removed with everything in it when the process ends.
 std::string temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("bivo_png_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir.string();
+  static const bivo::testing::TempDir dir("bivo_png_test");
+  return dir.path.string();
 }
 
 }  // namespace
