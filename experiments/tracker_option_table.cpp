@@ -55,6 +55,11 @@ TrackerOption integer(std::string key, std::string flag, double lo, double hi, s
   o.type = OptionType::kInteger;
   return o;
 }
+// The option also takes -1, "the method's own" (odometry_methods.h resolves it).
+TrackerOption method_own(TrackerOption o) {
+  o.auto_value = -1.0;
+  return o;
+}
 TrackerOption other(OptionType type, std::string key, std::string flag, std::string help,
                     json (*get)(const TrackerOptions&), void (*set)(TrackerOptions&, const json&)) {
   TrackerOption o = number(std::move(key), std::move(flag), 0.0, 0.0, std::move(help), get, set);
@@ -140,10 +145,11 @@ std::vector<TrackerOption> build_table() {
       number("pixel_motion_tolerance", "--pixel-motion-tolerance", 0.0, kInf,
              "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
              BIVO_FIELD(pixel_motion_tolerance)),
-      number("step_extrapolation", "--step-extrapolation", -1.0, 100.0,
-             "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated by, to "
-             "the limit of its geometric tail (1: off; -1: the method's own, 1.9 for robust, else off)",
-             BIVO_FIELD(step_extrapolation)),
+      method_own(number("step_extrapolation", "--step-extrapolation", 1.0, 100.0,
+                        "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated "
+                        "by, to the limit of its geometric tail (1: off; -1: the method's own, 1.9 for robust, else "
+                        "off)",
+                        BIVO_FIELD(step_extrapolation))),
       integer("exact_finish_iterations", "--exact-finish-iterations", 0, 1000,
               "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at "
               "most N iterations (0: off)",
@@ -294,7 +300,8 @@ std::string TrackerOption::range_text() const {
     case OptionType::kNumber:
     case OptionType::kInteger:
     case OptionType::kOptionalNumber:
-      return (lo_open ? "(" : "[") + format_option_number(lo) + ", " + format_option_number(hi) + "]";
+      return (auto_value ? format_option_number(*auto_value) + " or " : std::string()) + (lo_open ? "(" : "[") +
+             format_option_number(lo) + ", " + format_option_number(hi) + "]";
     case OptionType::kBoolean:
       return "true/false";
     case OptionType::kName:
@@ -342,6 +349,7 @@ void apply_tracker_option(const TrackerOption& option, const json& value, Tracke
     case OptionType::kNumber: {
       if (!value.is_number()) throw Error(key + ": must be a number, got " + shown(value));
       const double d = value.get<double>();
+      if (option.auto_value && d == *option.auto_value) break;
       const bool below = option.lo_open ? !(d > option.lo) : !(d >= option.lo);
       if (!std::isfinite(d) || below || d > option.hi) {
         throw Error(key + ": " + format_option_number(d) + " is outside " + option.range_text());

@@ -8,6 +8,7 @@
 // and whatever a run accepted writes a configuration that replays.
 //
 // Defaults are not repeated here: they are TrackerOptions{}'s, read through `get`.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,9 @@ struct TrackerOption {
   std::string key;   // JSON path, dots between nesting levels: "problem.weights.nu"
   std::string flag;  // "--nu"; empty: no flag (set by other flags or by the method)
   OptionType type = OptionType::kNumber;
-  double lo = 0.0, hi = 0.0;  // range of numbers and integers
-  bool lo_open = false;       // lo itself excluded
+  double lo = 0.0, hi = 0.0;         // range of numbers and integers
+  bool lo_open = false;              // lo itself excluded
+  std::optional<double> auto_value;  // a number accepted outside the range: "the method's own"
   std::string help;
   std::string method;  // the method the option belongs to ("" = every method); its flag is refused with another
   nlohmann::json (*get)(const odometry::TrackerOptions&) = nullptr;

@@ -173,9 +173,11 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
   EXPECT_NE(err(R"({"levels": 0})").find("cfg.json: levels: 0 is outside [1, 8]"), std::string::npos);
   EXPECT_NE(err(R"({"max_frames": 4294967296})").find("cfg.json: max_frames: 4294967296 is outside [-1, 2147483647]"),
             std::string::npos);
-  EXPECT_NE(err(R"({"step_extrapolation": -2})").find("cfg.json: step_extrapolation: -2 is outside [-1, 100]"),
+  EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("cfg.json: step_extrapolation: 0.9 is outside -1 or [1, 100]"),
             std::string::npos);
-  EXPECT_NE(err(R"({"step_extrapolation": 0.9})").find("step extrapolation must be in [1, 100]"), std::string::npos);
+  EXPECT_NE(err(R"({"step_extrapolation": -2})").find("cfg.json: step_extrapolation: -2 is outside -1 or [1, 100]"),
+            std::string::npos);
+  EXPECT_EQ(err(R"({"step_extrapolation": -1})"), "");  // the method's own
   EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json: policy.phi: -1 is outside (0, inf]"), std::string::npos);
   EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json: problem.weights.kind: "),
             std::string::npos);
