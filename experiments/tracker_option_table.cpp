@@ -360,6 +360,7 @@ void apply_tracker_option(const TrackerOption& option, const json& value, Tracke
       if (!value.is_number_integer()) throw Error(key + ": must be an integer, got " + shown(value));
       const bool huge = value.is_number_unsigned() && value.get<std::uint64_t>() > std::uint64_t{INT64_MAX};
       const auto i = huge ? INT64_MAX : value.get<std::int64_t>();
+      if (!huge && option.auto_value && static_cast<double>(i) == *option.auto_value) break;
       if (huge || static_cast<double>(i) < option.lo || static_cast<double>(i) > option.hi) {
         throw Error(key + ": " + shown(value) + " is outside " + option.range_text());
       }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/tracker_config.h"
+#include "experiments/tracker_option_table.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -160,6 +161,25 @@ TEST(TrackerConfig, AbsentKeysKeepTheBaseAndNullClearsOptionals) {
   // The defaults' own document reads back as the defaults.
   EXPECT_EQ(tracker_options_to_json(tracker_options_from_json(tracker_options_to_json({}), "d")).dump(),
             tracker_options_to_json({}).dump());
+}
+
+// An integer option that also takes "the method's own" (-1) accepts it from a document as a
+// number option does (the check used to ignore the -1 for integers).
+TEST(TrackerConfig, IntegerOptionsTakeTheirAutoValue) {
+  bivo::experiments::TrackerOption option;
+  option.key = "policy.photometric_start_levels";
+  option.type = bivo::experiments::OptionType::kInteger;
+  option.lo = 0.0;
+  option.hi = 8.0;
+  option.auto_value = -1.0;
+  option.set = [](TrackerOptions& o, const json& v) { v.get_to(o.policy.photometric_start_levels); };
+  TrackerOptions o;
+  o.policy.photometric_start_levels = 3;
+  const auto apply = [&](int v) { return error_of([&] { bivo::experiments::apply_tracker_option(option, v, o); }); };
+  EXPECT_EQ(apply(-1), "");
+  EXPECT_EQ(o.policy.photometric_start_levels, -1);
+  EXPECT_NE(apply(-2).find("policy.photometric_start_levels: -2 is outside -1 or [0, 8]"), std::string::npos);
+  EXPECT_NE(apply(9).find("is outside -1 or [0, 8]"), std::string::npos);
 }
 
 TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
