@@ -119,6 +119,8 @@ struct TrackerOptions {
 // one; 0 without prefetch_frames.
 int load_threads_for(const TrackerOptions& options, unsigned cores = 0);
 
+// The backend the options name, or the method's default (gn / exact) when none is named.
+std::string tracker_backend(const TrackerOptions& options);
 // Checks names and numbers up front (unknown method/backend, backend that cannot solve the
 // method's scalarization, levels < 1, ...); throws bivo::Error listing valid choices.
 void validate(const TrackerOptions& options);
@@ -135,6 +137,7 @@ struct LevelResult {
   double lambda = 0.0;          // weighted sum: lambda used (joint, scaled: at the last step)
   double correlation = 0.0;     // joint: rho = S_ID / sqrt(S_II S_DD) at the last linearization
   bool relaxed = false;         // noise-bounded: the guard relaxed the bound (x_I kept)
+  bool kept_prior = false;      // joint, robust with both starts: the estimate from the prior was kept
   double trust = 0.0;           // robust: the depth trust statistic T at the level's bi-objective estimate
                                 // (depth_trust.h; relaxed: T exceeded the threshold, F_I alone solved;
                                 // NaN: the test is off, PolicyParameters::trust)
