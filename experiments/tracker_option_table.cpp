@@ -130,6 +130,11 @@ std::vector<TrackerOption> build_table() {
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
               "the method's own, 2 for joint, 1 for robust)",
               BIVO_FIELD(policy.photometric_start_levels)),
+      integer("policy.both_starts", "--both-starts", 0, 1,
+              "methods joint and robust: 1 also solves the photometric start levels from the prior and keeps "
+              "the estimate whose residual scale matrix has the smaller determinant (0: the photometric start "
+              "alone)",
+              BIVO_FIELD(policy.both_starts)),
       integer("levels", "--levels", 1, 8, "pyramid levels (640x480 down to 640/2^(L-1))", BIVO_FIELD(levels)),
       integer("finest_level", "--finest-level", 0, 7,
               "finest pyramid level solved (0 = full resolution, 1 = half, ...; below --levels)",

@@ -25,9 +25,11 @@ namespace bivo::odometry {
 struct JointScale {
   double s_ii = 0.0, s_id = 0.0, s_dd = 0.0;  // [gray^2], [gray m], [m^2]
   int passes = 0;                             // passes over the terms that found S
-  bool valid() const { return s_ii > 0.0 && s_dd > 0.0 && s_ii * s_dd - s_id * s_id > 0.0; }
+  bool valid() const { return s_ii > 0.0 && s_dd > 0.0 && determinant() > 0.0; }
   double correlation() const;     // S_ID / sqrt(S_II S_DD); 0 when !valid()
   double implied_lambda() const;  // S_II / S_DD [gray^2 / m^2]; 0 when !valid()
+  // det S, the generalized variance of (r_I, r_D).
+  double determinant() const { return s_ii * s_dd - s_id * s_id; }
 };
 
 // Fills w_i and w_d (equal where both residuals are valid, 0 where a residual is invalid)

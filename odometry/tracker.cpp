@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -155,6 +156,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   solver_options.keep_final_point = method == Method::kNoiseBounded;
 
   const int photometric_start_levels = method_photometric_start_levels(method, options.policy.photometric_start_levels);
+  const bool both_starts = options.policy.both_starts == 1;
   Eigen::VectorXd x = se3::to_ambient(initial);
   bool any_level_solved = false;
   for (int level = levels - 1; level >= options.finest_level; --level) {
@@ -183,29 +185,29 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     }
     const Eigen::VectorXd x_before = x;
     double level_lambda = lambda;
-    // The level's solve (the method's scalarization from x); fills the method-specific parts
-    // of lr. Run once, and again for the exact finish.
-    const auto solve_level = [&]() {
+    // The level's solve on `on` (the method's scalarization from x); fills the method-specific
+    // parts of lr. Run once, and again for the exact finish.
+    const auto solve_level = [&](RgbdOdometryProblem& on) {
       if (options.pixel_motion_tolerance > 0.0) {
-        solver_options.step_measure = [&problem](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
-          return problem.pixel_motion(at, delta);
+        solver_options.step_measure = [&on](const Eigen::VectorXd& at, const Eigen::VectorXd& delta) {
+          return on.pixel_motion(at, delta);
         };
         solver_options.step_measure_tolerance = options.pixel_motion_tolerance;
       }
       const auto run_with = [&](const solvers::Scalarization& scalarization, const solvers::SolverOptions& so) {
-        return whole_problem ? solvers::solve(problem, scalarization, backend_name, x, so)
-                             : solvers::solve(problem, scalarization, *step_backend, x, so);
+        return whole_problem ? solvers::solve(on, scalarization, backend_name, x, so)
+                             : solvers::solve(on, scalarization, *step_backend, x, so);
       };
       const auto run = [&](const solvers::Scalarization& scalarization) {
         return run_with(scalarization, solver_options);
       };
-      RgbdOdometryProblem* p = &problem;
+      RgbdOdometryProblem* p = &on;
       if (method == Method::kRobust) {
         if (depth_distrusted) {
           lr.relaxed = true;
           return run(solvers::WeightedSum(0.0));
         }
-        const RobustLevel rl = solve_robust_level(problem, options.policy, run_with, solver_options,
+        const RobustLevel rl = solve_robust_level(on, options.policy, run_with, solver_options,
                                                   finest ? options.exact_finish_iterations : 0, x);
         lr.relaxed = depth_distrusted = rl.distrusted;
         lr.trust = rl.statistic;
@@ -218,7 +220,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
             [p, eps_bar](const solvers::Linearization&) { return eps_bar * p->last_stats().weight_sum_depth; }));
       }
       if (method == Method::kNoiseBounded) {
-        const NoiseBoundedLevel nb = solve_noise_bounded(problem, options.policy, run, solver_options, x);
+        const NoiseBoundedLevel nb = solve_noise_bounded(on, options.policy, run, solver_options, x);
         lr.relaxed = nb.relaxed;
         lr.guard_rise = nb.rise;
         result.epsilon_per_weight = nb.eps_bar;
@@ -234,7 +236,37 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       return run(solvers::WeightedSum(lambda));
     };
     int start_iterations = 0;
-    if (uses_joint_weights(method) && !depth_distrusted && level >= levels - photometric_start_levels) {
+    const bool photometric_start =
+        uses_joint_weights(method) && !depth_distrusted && level >= levels - photometric_start_levels;
+    // PolicyParameters::both_starts: the level solved from the prior first, on a problem of
+    // its own (the photometric start below runs exactly as without it), kept aside.
+    struct Candidate {
+      Eigen::VectorXd x;
+      solvers::Summary summary;
+      LevelResult lr;
+      bool distrusted = false;
+      double lambda = 0.0, determinant = 0.0;
+    };
+    std::optional<RgbdOdometryProblem> prior_problem;
+    std::optional<Candidate> from_prior;
+    if (photometric_start && both_starts) {
+      const LevelResult lr_before = lr;
+      const auto t_prior = Clock::now();
+      prior_problem.emplace(reference.pyramid.levels[level], current.pyramid.levels[level], level_options);
+      result.profile.add("reference", seconds_since(t_prior));
+      from_prior = Candidate{};
+      from_prior->summary = solve_level(*prior_problem);
+      from_prior->x = x;
+      from_prior->lr = lr;
+      from_prior->distrusted = depth_distrusted;
+      from_prior->lambda = level_lambda;
+      from_prior->determinant = prior_problem->last_stats().joint_scale.determinant();
+      x = x_before;
+      lr = lr_before;
+      depth_distrusted = false;
+      level_lambda = lambda;
+    }
+    if (photometric_start) {
       // The photometric objective's basin is the wider one for large rotations (the depth
       // objective's landscape folds where points change surface): F_I alone first, with its
       // own weights, then the bi-objective solve from there.
@@ -245,18 +277,36 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
               .iterations;
       problem.set_objectives(true, true);
     }
-    solvers::Summary summary = solve_level();
+    solvers::Summary summary = solve_level(problem);
     summary.iterations += start_iterations;
+    RgbdOdometryProblem* solved = &problem;  // the problem whose estimate the level keeps
+    if (from_prior) {
+      // The smaller generalized variance wins; a tie keeps the photometric start.
+      const double det = problem.last_stats().joint_scale.determinant();
+      const int iterations = summary.iterations + from_prior->summary.iterations;
+      const bool prior_wins = from_prior->x.allFinite() && from_prior->determinant > 0.0 &&
+                              (!x.allFinite() || !(det > 0.0) || from_prior->determinant < det);
+      if (prior_wins) {
+        x = from_prior->x;
+        summary = from_prior->summary;
+        lr = from_prior->lr;
+        lr.kept_prior = true;
+        depth_distrusted = from_prior->distrusted;
+        level_lambda = from_prior->lambda;
+        solved = &*prior_problem;
+      }
+      summary.iterations = iterations;
+    }
     // Reference-side (inverse / ESM) gradients make the Jacobian an approximation whose fixed
     // point is not the cost's stationary point; the exact finish continues the finest level
     // from there with current-side gradients (TrackerOptions::exact_finish_iterations).
     if (method != Method::kRobust && options.exact_finish_iterations > 0 && finest &&
         level_options.jacobian != JacobianKind::kForward && x.allFinite()) {
       const int first_iterations = summary.iterations;
-      problem.set_jacobian(JacobianKind::kForward);  // weights and scales carried over
+      solved->set_jacobian(JacobianKind::kForward);  // weights and scales carried over
       const int level_iterations = solver_options.max_iterations;
       solver_options.max_iterations = std::min(level_iterations, options.exact_finish_iterations);
-      summary = solve_level();
+      summary = solve_level(*solved);
       solver_options.max_iterations = level_iterations;
       summary.iterations += first_iterations;
     }
@@ -264,7 +314,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       ++result.relaxed_levels;
       result.note += "level " + std::to_string(level) + " bound relaxed; ";
     }
-    const RgbdLinearizationStats& stats = problem.last_stats();
+    const RgbdLinearizationStats& stats = solved->last_stats();
     lr.valid_intensity = stats.valid_intensity;
     lr.valid_depth = stats.valid_depth;
     lr.iterations = summary.iterations;
@@ -287,7 +337,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.f_d = problem_options.depth_first ? summary.final_f1 : summary.final_f2;
     if (one_objective) {
       if (options.evaluate_unused_objective) {
-        const std::array<double, 2> f = problem.objectives_at(x, &result.profile);
+        const std::array<double, 2> f = solved->objectives_at(x, &result.profile);
         (problem_options.depth_first ? lr.f_i : lr.f_d) = f[problem_options.depth_first ? 0 : 1];
       } else {
         (problem_options.depth_first ? lr.f_i : lr.f_d) = kNotEvaluated;

@@ -80,6 +80,9 @@ void validate(const TrackerOptions& options) {
     throw Error("photometric start levels must be >= 0, or -1 for the method's own, got " +
                 std::to_string(options.policy.photometric_start_levels));
   }
+  if (options.policy.both_starts != 0 && options.policy.both_starts != 1) {
+    throw Error("both starts must be 0 or 1, got " + std::to_string(options.policy.both_starts));
+  }
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }

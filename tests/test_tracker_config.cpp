@@ -55,6 +55,7 @@ TrackerOptions unusual_options() {
   o.policy.guard = 0.0123;
   o.policy.joint_tolerance = 2.0 / 9.0;
   o.policy.relaxed_tolerance = 3.0 / 11.0;
+  o.policy.both_starts = 1;
   o.problem.min_depth = 0.25;
   o.problem.max_depth = 6.5;
   o.problem.occlusion_margin = 0.07;
@@ -198,6 +199,8 @@ TEST(TrackerConfig, BadDocumentsNameTheFileAndTheKey) {
   EXPECT_NE(err(R"({"step_extrapolation": -2})").find("cfg.json: step_extrapolation: -2 is outside -1 or [1, 100]"),
             std::string::npos);
   EXPECT_EQ(err(R"({"step_extrapolation": -1})"), "");  // the method's own
+  EXPECT_NE(err(R"({"policy": {"both_starts": 2}})").find("cfg.json: policy.both_starts: 2 is outside [0, 1]"),
+            std::string::npos);
   EXPECT_NE(err(R"({"policy": {"phi": -1}})").find("cfg.json: policy.phi: -1 is outside (0, inf]"), std::string::npos);
   EXPECT_NE(err(R"({"problem": {"weights": {"kind": "cauchy"}}})").find("cfg.json: problem.weights.kind: "),
             std::string::npos);
