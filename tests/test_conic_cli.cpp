@@ -75,6 +75,11 @@ TEST(ConicCli, BadInputIsAnErrorNamingTheFault) {
       {R"({"c": [1], "G": {"rows": 1, "cols": 1, "triplets": [[3, 0, 1]]}, "h": [1], "cones": {"l": 1}})", "outside"},
       {R"({"c": [1], "G": [[1]], "h": [1], "cones": {"q": [0]}})", "cones.q[0]"},
       {R"({"c": [1], "G": [[1]], "h": [1, 2], "cones": {"l": 2}})", "G has 1 rows but h has 2"},
+      // A row count h does not have is refused before a matrix of that many rows is built.
+      {R"({"c": [1], "G": {"rows": 2147481824, "cols": 1, "triplets": []}, "h": [], "cones": {}})",
+       "G has 2147481824 rows but h has 0 entries"},
+      {R"({"c": [1], "A": {"rows": 3, "cols": 1, "triplets": []}, "b": [1], "G": [[1]], "h": [1], "cones": {"l": 1}})",
+       "A has 3 rows but b has 1 entries"},
       {R"({"c": [1], )", "not valid JSON"},
   };
   int k = 0;

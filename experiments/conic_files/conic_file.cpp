@@ -75,7 +75,11 @@ Eigen::VectorXd vector_field(const json& doc, const char* key, const std::string
   return v;
 }
 
-SparseMatrix matrix_field(const json& doc, const char* key, const std::string& file, int cols) {
+// `key`'s rows pair with the entries of the vector `paired` (A with b, G with h): a count that
+// differs is refused before anything of that size is allocated (Eigen's setFromTriplets sorts
+// through a transposed copy with one index per row).
+SparseMatrix matrix_field(const json& doc, const char* key, const std::string& file, int cols, const char* paired,
+                          int paired_rows) {
   SparseMatrix M;
   if (!doc.contains(key)) {
     M.resize(0, cols);
@@ -122,6 +126,10 @@ SparseMatrix matrix_field(const json& doc, const char* key, const std::string& f
   } else {
     throw Error(where + " must be dense rows or {rows, cols, triplets}, got " + describe(a));
   }
+  if (rows != paired_rows) {
+    throw Error(where + " has " + std::to_string(rows) + " rows but " + paired + " has " + std::to_string(paired_rows) +
+                " entries");
+  }
   M.resize(rows, cols);
   M.setFromTriplets(t.begin(), t.end());
   return M;
@@ -136,10 +144,10 @@ ConicProblem read_conic_json(const std::string& file) {
   ConicProblem p;
   p.c = vector_field(doc, "c", file, true);
   const int n = static_cast<int>(p.c.size());
-  p.A = matrix_field(doc, "A", file, n);
   p.b = vector_field(doc, "b", file, false);
-  p.G = matrix_field(doc, "G", file, n);
+  p.A = matrix_field(doc, "A", file, n, "b", static_cast<int>(p.b.size()));
   p.h = vector_field(doc, "h", file, false);
+  p.G = matrix_field(doc, "G", file, n, "h", static_cast<int>(p.h.size()));
   if (!doc.contains("cones") || !doc.at("cones").is_object()) throw Error(file + ": missing \"cones\" object");
   const json& cones = doc.at("cones");
   if (cones.contains("l")) p.cones.nonnegative = integer(cones.at("l"), file + ": cones.l", 0, kMaxIndex);
