@@ -281,11 +281,16 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     summary.iterations += start_iterations;
     RgbdOdometryProblem* solved = &problem;  // the problem whose estimate the level keeps
     if (from_prior) {
-      // The smaller generalized variance wins; a tie keeps the photometric start.
+      // The smaller generalized variance wins; a tie keeps the photometric start. A start whose
+      // solve ended degenerate (x reset, S of the degenerate point) or failed cannot win.
+      const auto usable = [](const solvers::Summary& s, const Eigen::VectorXd& at) {
+        return at.allFinite() && s.termination != solvers::TerminationReason::kDegeneratePoint &&
+               s.termination != solvers::TerminationReason::kBackendFailure;
+      };
       const double det = problem.last_stats().joint_scale.determinant();
       const int iterations = summary.iterations + from_prior->summary.iterations;
-      const bool prior_wins = from_prior->x.allFinite() && from_prior->determinant > 0.0 &&
-                              (!x.allFinite() || !(det > 0.0) || from_prior->determinant < det);
+      const bool prior_wins = usable(from_prior->summary, from_prior->x) && from_prior->determinant > 0.0 &&
+                              (!usable(summary, x) || !(det > 0.0) || from_prior->determinant < det);
       if (prior_wins) {
         x = from_prior->x;
         summary = from_prior->summary;
