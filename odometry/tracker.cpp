@@ -32,6 +32,13 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 bool finite_pose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
 
+// A solve that ended where the level's data gave no estimate: a degenerate point (x reset to
+// its start) or a whole-problem backend that says it failed.
+bool failed_solve(const solvers::Summary& s) {
+  return s.termination == solvers::TerminationReason::kDegeneratePoint ||
+         s.termination == solvers::TerminationReason::kBackendFailure;
+}
+
 constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 
 // The reference frame's statistics as the method's rule reads them: the exact medians
@@ -284,8 +291,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       // The smaller generalized variance wins; a tie keeps the photometric start. A start whose
       // solve ended degenerate (x reset, S of the degenerate point) or failed cannot win.
       const auto usable = [](const solvers::Summary& s, const Eigen::VectorXd& at) {
-        return at.allFinite() && s.termination != solvers::TerminationReason::kDegeneratePoint &&
-               s.termination != solvers::TerminationReason::kBackendFailure;
+        return at.allFinite() && !failed_solve(s);
       };
       const double det = problem.last_stats().joint_scale.determinant();
       const int iterations = summary.iterations + from_prior->summary.iterations;
@@ -326,8 +332,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lr.termination = solvers::to_string(summary.termination);
     result.iterations += summary.iterations;
     // A degenerate end, or a whole-problem backend that says it failed: no estimate here.
-    const bool degenerate = summary.termination == solvers::TerminationReason::kDegeneratePoint ||
-                            summary.termination == solvers::TerminationReason::kBackendFailure;
+    const bool degenerate = failed_solve(summary);
     if (!x.allFinite() || degenerate || stats.valid_intensity < options.min_valid_pixels) {
       x = x_before;  // the level's data could not support an estimate: keep the coarser one
       lr.skipped = true;
