@@ -1,7 +1,8 @@
 #pragma once
 // The README's main job (`bivo demo`): renders the built-in synthetic "Structure vs.
 // Texture" set (the four near categories, generated hand-held motion; no data needed), runs
-// the paper's methods on it and writes a report folder (report_builder.h).
+// the paper's methods and the data-driven joint, noise-bounded and robust on it and writes
+// a report folder (report_builder.h).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,7 +18,8 @@ struct DemoOptions {
   // full resolution like `bivo run`.
   int finest_level = 1;
   std::uint64_t seed = 7;
-  std::vector<std::string> methods{"single", "depth", "tykkala", "weighted", "bounded", "joint", "noise-bounded"};
+  std::vector<std::string> methods{"single",  "depth", "tykkala",       "weighted",
+                                   "bounded", "joint", "noise-bounded", "robust"};
   int sweep_frames = 40;
   bool sweep = true, pareto = true, plots = true;
   bool rerender = false;  // render even when OUTPUT/sequences has a finished sequence

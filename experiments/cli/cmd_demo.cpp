@@ -1,6 +1,6 @@
 // `bivo demo [--output DIR]`: the README's main job (experiments/demo.h): renders the
-// built-in synthetic set, runs the paper's methods on it, prints the RPE and runtime tables
-// and writes a report folder.
+// built-in synthetic set, runs the paper's methods and joint, noise-bounded and robust on
+// it, prints the RPE and runtime tables and writes a report folder.
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -18,8 +18,9 @@ void add_demo_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   auto& o = a->o;
-  auto* cmd = app.add_subcommand(
-      "demo", "Render the built-in synthetic set, run the paper's methods, print the tables, write a report");
+  auto* cmd = app.add_subcommand("demo",
+                                 "Render the built-in synthetic set, run the paper's methods and the data-driven ones, "
+                                 "print the tables, write a report");
   cmd->add_option("--output", o.output, "report folder (sequences are rendered into OUTPUT/sequences)")
       ->capture_default_str();
   cmd->add_option("--frames", o.frames, "frames per synthetic sequence")->capture_default_str();

@@ -9,6 +9,7 @@
 #include "experiments/method_matrix.h"
 #include "experiments/output_set.h"
 #include "experiments/study/study_plan.h"
+#include "odometry/odometry_methods.h"
 
 namespace bivo::experiments::cli {
 
@@ -23,9 +24,9 @@ StudyFactory add_table_flags(CLI::App* cmd) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("--sequences", a->sequences, "TUM sequence folders (columns)")->required();
-  cmd->add_option("--methods", a->methods,
-                  "methods (rows), each 'method' or 'method:backend'; methods: single, depth, fixed, tykkala, "
-                  "weighted, bounded")
+  std::string names;
+  for (const std::string& m : odometry::method_names()) names += (names.empty() ? "" : ", ") + m;
+  cmd->add_option("--methods", a->methods, "methods (rows), each 'method' or 'method:backend'; methods: " + names)
       ->capture_default_str();
   cmd->add_option("--output", a->output, "folder for tables.md, rpe_trans.csv, runtime.csv, results.json, ...")
       ->required();
