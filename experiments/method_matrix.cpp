@@ -122,6 +122,7 @@ MethodMatrix assemble_matrix(const MatrixOptions& options, std::vector<MatrixCel
   out.methods = options.methods;
   out.sequences = sequence_labels(options.sequences);
   out.cells = std::move(cells);
+  out.rpe_delta = options.rpe_delta;
   return out;
 }
 
@@ -172,7 +173,7 @@ ResultTable table_of(const MethodMatrix& m, const std::string& corner, F value, 
 
 ResultTable rpe_trans_table(const MethodMatrix& m) {
   return table_of(
-      m, "RPE trans [m/s]",
+      m, "RPE trans [" + rpe_unit("m", m.rpe_delta) + "]",
       [](const MatrixCell& c) -> std::optional<double> {
         if (c.rpe) return c.rpe->trans_rmse;
         return std::nullopt;
@@ -181,7 +182,7 @@ ResultTable rpe_trans_table(const MethodMatrix& m) {
 }
 ResultTable rpe_rot_table(const MethodMatrix& m) {
   return table_of(
-      m, "RPE rot [deg/s]",
+      m, "RPE rot [" + rpe_unit("deg", m.rpe_delta) + "]",
       [](const MatrixCell& c) -> std::optional<double> {
         if (c.rpe) return c.rpe->rot_rmse_deg;
         return std::nullopt;
@@ -248,8 +249,9 @@ std::string notes_markdown(const MethodMatrix& m) {
 
 std::string matrix_markdown(const MethodMatrix& m) {
   std::ostringstream s;
-  s << "Translational RPE RMSE over 1-s windows [m/s] (paper tables 1/2; best per column in bold):\n\n"
-    << rpe_trans_table(m).markdown() << "\nRotational RPE RMSE [deg/s]:\n\n"
+  s << "Translational RPE RMSE over " << rpe_windows(m.rpe_delta) << " [" << rpe_unit("m", m.rpe_delta)
+    << "] (paper tables 1/2; best per column in bold):\n\n"
+    << rpe_trans_table(m).markdown() << "\nRotational RPE RMSE [" << rpe_unit("deg", m.rpe_delta) << "]:\n\n"
     << rpe_rot_table(m).markdown() << "\nATE RMSE after rigid alignment [m]:\n\n"
     << ate_table(m).markdown() << "\nTime per frame pair, median over pairs [ms] (loading excluded):\n\n"
     << runtime_table(m).markdown();

@@ -45,6 +45,7 @@ struct MethodMatrix {
   std::vector<std::string> sequences;  // sequence_labels, column order
   std::vector<MethodSpec> methods;     // row order
   std::vector<MatrixCell> cells;       // row-major: methods x sequences
+  double rpe_delta = 1.0;              // RPE window [s] of every cell
   const MatrixCell& at(int method, int sequence) const { return cells[method * sequences.size() + sequence]; }
 };
 

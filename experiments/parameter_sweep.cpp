@@ -104,6 +104,7 @@ SweepResult assemble_sweep(const SweepOptions& o, const std::vector<SweepRun>& r
     throw Error("sweep: " + std::to_string(runs.size()) + " runs for " + std::to_string(units.size()) + " units");
   }
   SweepResult out;
+  out.rpe_delta = o.rpe_delta;
   const SweepRun* ref = nullptr;
   for (const SweepRun& r : runs) {
     if (r.unit.parameter == "single") {
@@ -154,7 +155,9 @@ std::string write_sweep(const SweepResult& r, const std::string& dir) {
   odometry::io::create_output_directory(dir);
   std::ostringstream csv, md;
   csv << "sequence,parameter,value,rpe_trans,max_err,rmse_ratio,max_ratio,median_ms,failures\n";
-  md << "| sequence | parameter | value | RPE trans [m/s] | max [m/s] | RMSE ratio | max ratio | ms/pair |\n"
+  const std::string unit = rpe_unit("m", r.rpe_delta);
+  md << "| sequence | parameter | value | RPE trans [" << unit << "] | max [" << unit
+     << "] | RMSE ratio | max ratio | ms/pair |\n"
         "|---|---|---:|---:|---:|---:|---:|---:|\n";
   nlohmann::json j = nlohmann::json::array();
   for (const auto& p : r.points) {

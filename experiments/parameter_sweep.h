@@ -30,7 +30,7 @@ struct SweepPoint {
   std::string sequence;
   std::string parameter;  // "lambda" or "epsilon"
   double value = 0;
-  double rpe_trans = 0, max_err = 0;  // RMSE and max over the 1-s windows [m/s]
+  double rpe_trans = 0, max_err = 0;  // RMSE and max over the RPE windows [m per window]
   double rmse_ratio = 0, max_ratio = 0;
   double median_ms = 0;
   int failures = 0;
@@ -39,6 +39,7 @@ struct SweepPoint {
 struct SweepResult {
   std::vector<SweepPoint> points;
   std::vector<std::string> notes;  // runs that failed or had no RPE (left out of points)
+  double rpe_delta = 1.0;          // RPE window [s] of every point
 };
 
 // One work unit of a sweep: the single-objective reference run of a sequence, or one grid

@@ -80,6 +80,20 @@ nlohmann::json evaluation_json(const TrajectoryEvaluation& e) {
   return j;
 }
 
+namespace {
+std::string seconds(double delta_s) {
+  std::ostringstream s;
+  s << std::setprecision(6) << delta_s;
+  return s.str();
+}
+}  // namespace
+
+std::string rpe_unit(const std::string& unit, double delta_s) {
+  return delta_s == 1.0 ? unit + "/s" : unit + " per " + seconds(delta_s) + " s";
+}
+
+std::string rpe_windows(double delta_s) { return seconds(delta_s) + "-s windows"; }
+
 std::string evaluation_line(const TrajectoryEvaluation& e, bool as_json) {
   if (as_json) {
     const nlohmann::json line = {{"rpe_trans", e.rpe.trans_rmse},

@@ -27,6 +27,11 @@ TrajectoryEvaluation evaluate_trajectory_files(const std::string& groundtruth, c
 std::optional<odometry::io::RpeResult> rpe_if_long_enough(const odometry::io::Trajectory& groundtruth,
                                                           const odometry::io::Trajectory& estimate, double delta_s,
                                                           std::string& why);
+// The unit of an RPE over windows of delta_s seconds, of a quantity in `unit` ("m", "deg"):
+// "m/s" for the TUM benchmark's 1-s windows, else "m per 0.5 s" (RPE is per window, not
+// per second). rpe_windows(delta_s): "1-s windows", "0.5-s windows".
+std::string rpe_unit(const std::string& unit, double delta_s);
+std::string rpe_windows(double delta_s);
 // Whether a note or error says "too short" (rpe_if_long_enough).
 bool is_too_short(const std::string& why);
 

@@ -1,16 +1,23 @@
 // The study layer without running the tracker: the study file (round trip, strictness),
 // its hash, unit ids, shards (disjoint, complete, deterministic), unit results read back
-// bit for bit, the sweep assembled from unit results, and the Slurm / GNU Parallel text.
+// bit for bit, the sweep assembled from unit results, the RPE units of tables and sweeps,
+// and the Slurm / GNU Parallel text.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <set>
 
 #include <gtest/gtest.h>
 
+#include "experiments/method_matrix.h"
+#include "experiments/parameter_sweep.h"
 #include "experiments/study/study.h"
 #include "experiments/study/study_launch.h"
 #include "experiments/study/study_results.h"
 #include "experiments/study/study_work.h"
+#include "experiments/trajectory_evaluation.h"
 #include "solvers/error.h"
 #include "test_support.h"
 
@@ -295,4 +302,46 @@ TEST(StudyLaunch, SlurmArrayAndGnuParallelCommandLines) {
             "'/s/study results'\n");
   o.log_dir = "/with space";
   EXPECT_NE(error_of([&] { slurm_array_script(o, "x"); }).find("/with space"), std::string::npos);
+}
+
+// RPE is per window: a table or sweep over windows other than 1 s must not say m/s.
+TEST(RpeUnits, TablesAndSweepsNameTheirWindow) {
+  EXPECT_EQ(rpe_unit("m", 1.0), "m/s");
+  EXPECT_EQ(rpe_unit("deg", 0.5), "deg per 0.5 s");
+  EXPECT_EQ(rpe_windows(1.0), "1-s windows");
+  MatrixOptions o;
+  o.sequences = {"/d/rgbd_dataset_a"};
+  o.methods = {{"single", ""}};
+  MatrixCell c;
+  c.sequence = "a";
+  c.spec = o.methods[0];
+  c.rpe = odometry::io::RpeResult{};
+  for (const double delta : {1.0, 0.5}) {
+    o.rpe_delta = delta;
+    const std::string md = matrix_markdown(assemble_matrix(o, {c}));
+    const bool per_second = delta == 1.0;
+    EXPECT_EQ(md.find("over 1-s windows [m/s]") != std::string::npos, per_second) << md;
+    EXPECT_EQ(md.find("| RPE rot [deg/s] |") != std::string::npos, per_second) << md;
+    EXPECT_EQ(md.find("over 0.5-s windows [m per 0.5 s]") != std::string::npos, !per_second) << md;
+    EXPECT_EQ(md.find("| RPE rot [deg per 0.5 s] |") != std::string::npos, !per_second) << md;
+  }
+  SweepOptions w;
+  w.sequences = {"/d/a"};
+  w.lambdas = {10};
+  w.rpe_delta = 0.25;
+  std::vector<SweepRun> runs;
+  for (const SweepUnit& u : sweep_units(w)) {
+    SweepRun r;
+    r.unit = u;
+    r.sequence = "a";
+    r.ok = true;
+    r.rpe_trans = r.max_err = 0.1;
+    runs.push_back(r);
+  }
+  const std::string dir = ::testing::TempDir() + "/bivo_rpe_units_sweep";
+  write_sweep(assemble_sweep(w, runs), dir);
+  std::ifstream in(dir + "/sweep.md");
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(md.find("| RPE trans [m per 0.25 s] | max [m per 0.25 s] |"), std::string::npos) << md;
+  std::filesystem::remove_all(dir);
 }

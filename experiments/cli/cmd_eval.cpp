@@ -26,7 +26,9 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("--output", opt->output, "also write every statistic and every RPE window to this JSON file");
   cmd->add_option("--delta", opt->delta, "RPE window in seconds")->capture_default_str();
   cmd->add_option("--max-dt", opt->max_dt, "timestamp matching tolerance in seconds")->capture_default_str();
-  cmd->footer("Prints one line: rpe_trans=<m/s> rpe_rot=<deg/s> ate=<m> pairs=<number of RPE windows>");
+  cmd->footer(
+      "Prints one line: rpe_trans=<m per window> rpe_rot=<deg per window> ate=<m> pairs=<number of RPE windows> "
+      "(per window of --delta s: m/s and deg/s at the default 1 s)");
   cmd->callback([opt] {
     check_output_files({{"--output", opt->output}}, {{"groundtruth", opt->groundtruth}, {"estimate", opt->estimate}});
     const TrajectoryEvaluation e = evaluate_trajectory_files(opt->groundtruth, opt->estimate, opt->delta, opt->max_dt);
