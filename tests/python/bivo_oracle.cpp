@@ -164,7 +164,27 @@ json track(const std::string& seq, const std::string& method, const std::string&
   const odometry::TrackResult r = odometry::track_sequence(seq, o);
   json j;
   for (const auto& pose : r.trajectory) j["poses"].push_back(vec(solvers::se3::to_ambient(pose.T_wc)));
-  for (const auto& p : r.pairs) j["iterations"].push_back(p.iterations);
+  for (const auto& p : r.pairs) {
+    j["iterations"].push_back(p.iterations);
+    json levels = json::array();
+    for (const auto& l : p.levels) {
+      levels.push_back({{"valid_intensity", l.valid_intensity},
+                        {"valid_depth", l.valid_depth},
+                        {"iterations", l.iterations},
+                        {"skipped", l.skipped},
+                        {"lam", num(l.lambda)},
+                        {"correlation", num(l.correlation)},
+                        {"relaxed", l.relaxed},
+                        {"kept_prior", l.kept_prior},
+                        {"trust", num(l.trust)},
+                        {"guard_rise", num(l.guard_rise)}});
+    }
+    j["pairs"].push_back({{"correlation", num(p.correlation)},
+                          {"relaxed_levels", p.relaxed_levels},
+                          {"trust", num(p.trust)},
+                          {"epsilon_per_weight", num(p.epsilon_per_weight)},
+                          {"levels", levels}});
+  }
   return j;
 }
 

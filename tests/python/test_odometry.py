@@ -34,6 +34,32 @@ def test_track_matches_cpp(oracle, synthetic_sequence, method, backend):
     assert np.all(np.isfinite(r.translation_errors)) and np.all(r.translation_errors < 0.02)
 
 
+@pytest.mark.parametrize("method", ["joint", "robust", "noise-bounded"])
+def test_pair_and_level_diagnostics_match_cpp(oracle, synthetic_sequence, method):
+    r = bivo.track(synthetic_sequence, method=method, max_frames=3)
+    ref = oracle("track", synthetic_sequence, method, "", 3)
+    assert len(r.pairs) == len(ref["pairs"]) == 2
+    for pair, ref_pair in zip(r.pairs, ref["pairs"]):
+        for key in ("correlation", "trust", "epsilon_per_weight"):
+            assert_same(getattr(pair, key), ref_pair[key])
+        assert pair.relaxed_levels == ref_pair["relaxed_levels"]
+        assert pair.cpu_seconds > 0 and pair.load_seconds >= 0
+        assert len(pair.levels) == len(ref_pair["levels"])
+        for level, ref_level in zip(pair.levels, ref_pair["levels"]):
+            for key, value in ref_level.items():
+                if isinstance(value, bool) or isinstance(value, int):
+                    assert getattr(level, key) == value, key
+                else:
+                    assert_same(getattr(level, key), value)
+    finest = [p.levels[-1] for p in r.pairs]
+    if method == "joint":  # S is a covariance: its correlation lies in (-1, 1), and is not 0 on real residuals
+        assert all(0 < abs(l.correlation) < 1 for l in finest)
+    if method == "robust":  # the trust test is off by default: T is not evaluated
+        assert all(np.isnan(l.trust) for l in finest) and not any(l.kept_prior for l in finest)
+    if method == "noise-bounded":
+        assert all(np.isfinite(l.guard_rise) for l in finest)
+
+
 def test_every_backend_solves_a_pair_problem(synthetic_sequence):
     pair = bivo.odometry.load_frame_pair(synthetic_sequence, 0, 1, levels=4)
     problem = pair.problem(3)
