@@ -131,9 +131,9 @@ std::vector<TrackerOption> build_table() {
               "the method's own, 2 for joint, 1 for robust)",
               BIVO_FIELD(policy.photometric_start_levels)),
       integer("policy.both_starts", "--both-starts", 0, 1,
-              "methods joint and robust: 1 also solves the photometric start levels from the prior and keeps "
-              "the estimate whose residual scale matrix has the smaller determinant (0: the photometric start "
-              "alone)",
+              "methods joint and robust: 1 also solves the photometric start levels from the prior and, where "
+              "the two estimates are 0.5 deg or 1 cm apart, keeps the one whose residual scale matrix has the "
+              "smaller determinant (0: the photometric start alone)",
               BIVO_FIELD(policy.both_starts)),
       integer("levels", "--levels", 1, 8, "pyramid levels (640x480 down to 640/2^(L-1))", BIVO_FIELD(levels)),
       integer("finest_level", "--finest-level", 0, 7,
