@@ -55,7 +55,14 @@ TEST(PaperClaims, RowsFollowTheNumbers) {
   ASSERT_NE(nt, nullptr);
   EXPECT_EQ(nt->source, "table 1");
   EXPECT_NE(nt->paper.find("0.0889 vs 0.1252"), std::string::npos) << nt->paper;
-  EXPECT_NE(nt->bivo.find("0.0500 vs 0.1000 (0.50x)"), std::string::npos) << nt->bivo;
+  EXPECT_EQ(nt->bivo, "0.0500 vs 0.1000 (0.50x)");
+  // RPE over other windows than the paper's 1 s: bivo's values say their unit.
+  MethodMatrix short_windows = matrix(0.10, 0.05, 0.010, 0.009);
+  short_windows.rpe_delta = 0.1;
+  const auto short_rows = paper_claims(short_windows);
+  const ClaimRow* nt_short = find(short_rows, "weighted better than single", "structure_notexture_near");
+  ASSERT_NE(nt_short, nullptr);
+  EXPECT_EQ(nt_short->bivo, "0.0500 vs 0.1000 (0.50x) [m per 0.1 s]");
   EXPECT_TRUE(nt->holds);
   const ClaimRow* drop = find(good, "without texture", "structure_notexture_near / structure_texture_near");
   ASSERT_NE(drop, nullptr);
