@@ -65,6 +65,13 @@ std::vector<LosoRun> loso_units(const LosoOptions& o) {
   if (o.grid.empty()) throw Error("loso: the grid of '" + o.parameter + "' is empty");
   odometry::TrackerOptions probe = o.tracker;
   for (double v : o.grid) set_loso_parameter(probe, o.parameter, v);  // a bad name or value fails before any run
+  if (!(o.cost_budget >= 0.0 && std::isfinite(o.cost_budget)))
+    throw Error("loso: the cost budget must be finite and >= 0 (0: none), got " + std::to_string(o.cost_budget));
+  if (o.cost_budget > 0.0 && o.cost_method != o.reference &&
+      std::find(o.methods.begin(), o.methods.end(), o.cost_method) == o.methods.end()) {
+    throw Error("loso: the cost budget is in units of '" + o.cost_method +
+                "', which is neither the reference nor among the methods run beside");
+  }
   std::vector<LosoRun> units;
   for (int s = 0; s < static_cast<int>(o.sequences.size()); ++s) {
     LosoRun r;
@@ -139,37 +146,66 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
     }
     return nullptr;
   };
+  const auto fixed = [&](int s, const std::string& method) -> const LosoRun* {
+    for (const LosoRun& r : out.runs) {
+      if (r.sequence == s && !r.has_value && r.method == method) return &r;
+    }
+    return nullptr;
+  };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const bool budget = o.cost_budget > 0.0;
+  for (int s = 0; budget && s < n; ++s) {
+    const LosoRun* c = fixed(s, o.cost_method);
+    if (!c || !c->ok) {
+      throw Error("loso: the cost method's run (" + o.cost_method + ") on '" + o.sequences[s] +
+                  "' failed, so the cost budget is undefined: " + (c ? c->error : std::string("missing")));
+    }
+  }
   for (int h = 0; h < n; ++h) {
     LosoRow row;
     row.sequence = ref[h]->sequence_name;
     row.reference = ref[h];
-    row.train_worst = std::numeric_limits<double>::infinity();
-    double chosen_log_sum = std::numeric_limits<double>::infinity();
+    // Per grid value over the other sequences: the worst ratio, the sum of the ratios' logs
+    // and the CPU per pair relative to the cost method's.
+    struct Score {
+      double value, worst = 0.0, log_sum = 0.0, cost = 0.0;
+    };
+    std::vector<Score> scores;
     for (double v : o.grid) {
-      double worst = 0.0, log_sum = 0.0;
+      Score sc{v};
+      double cpu = 0.0, cpu_of_cost_method = 0.0;
       for (int s = 0; s < n; ++s) {
         if (s == h) continue;
         const LosoRun* r = at(s, v);
-        const double w = r && r->ok ? worst_ratio(*r, *ref[s]) : std::numeric_limits<double>::infinity();
-        worst = std::max(worst, w);
-        log_sum += std::log(w);
+        const double w = r && r->ok ? worst_ratio(*r, *ref[s]) : kInf;
+        sc.worst = std::max(sc.worst, w);
+        sc.log_sum += std::log(w);
+        cpu += r && r->ok ? r->median_cpu_ms : kInf;
+        if (budget) cpu_of_cost_method += fixed(s, o.cost_method)->median_cpu_ms;
       }
-      // A parameter that does not move the worst sequence ties there: the geometric mean of
-      // the same ratios decides, then the first grid value.
-      if (worst < row.train_worst || (worst == row.train_worst && log_sum < chosen_log_sum)) {
-        row.train_worst = worst;
-        chosen_log_sum = log_sum;
-        row.chosen = v;
+      sc.cost = budget ? cpu / cpu_of_cost_method : 0.0;
+      scores.push_back(sc);
+    }
+    // A parameter that does not move the worst sequence ties there: the geometric mean of
+    // the same ratios decides, then the first grid value.
+    const auto more_accurate = [](const Score& a, const Score& b) {
+      return a.worst < b.worst || (a.worst == b.worst && a.log_sum < b.log_sum);
+    };
+    const auto within = [&](const Score& sc) { return !budget || sc.cost <= o.cost_budget; };
+    const Score* best = nullptr;
+    for (const Score& sc : scores) {
+      if (within(sc) && (!best || more_accurate(sc, *best))) best = &sc;
+    }
+    if (!best) {  // no value keeps within the budget: the cheapest
+      for (const Score& sc : scores) {
+        if (!best || sc.cost < best->cost || (sc.cost == best->cost && more_accurate(sc, *best))) best = &sc;
       }
     }
+    row.chosen = best->value;
+    row.train_worst = best->worst;
+    row.train_cost = best->cost;
     row.held_out = at(h, row.chosen);
-    for (const std::string& m : o.methods) {
-      const LosoRun* found = nullptr;
-      for (const LosoRun& r : out.runs) {
-        if (r.sequence == h && !r.has_value && r.method == m) found = &r;
-      }
-      row.others.push_back(found);
-    }
+    for (const std::string& m : o.methods) row.others.push_back(fixed(h, m));
     out.rows.push_back(row);
   }
   return out;
@@ -194,19 +230,23 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
   std::ostringstream md, csv, runs_csv, pairs_csv;
   md << "Held-out RPE trans [m/s] / rot [deg/s] (ratio to " << o.reference << "; largest per-pair rotation error); "
      << o.method << "'s " << o.parameter << " chosen on the other sequences.\n\n| held out | " << o.parameter
-     << " chosen | worst ratio on the others | " << o.reference << " | " << o.method << " |";
+     << " chosen | worst ratio on the others |";
+  const bool budget = o.cost_budget > 0.0;
+  if (budget) md << " CPU per pair on the others (x " << o.cost_method << "; budget " << o.cost_budget << ") |";
+  md << " " << o.reference << " | " << o.method << " |";
   for (const std::string& m : o.methods) md << " " << m << " |";
-  md << "\n|---|---:|---:|---:|---:|";
+  md << "\n|---|---:|---:|" << (budget ? "---:|" : "") << "---:|---:|";
   for (std::size_t k = 0; k < o.methods.size(); ++k) md << "---:|";
   md << "\n";
   csv << "sequence,chosen,train_worst,ref_trans,ref_rot,trans,rot,trans_ratio,rot_ratio,max_pair_rot,ref_max_pair_"
-         "rot\n";
+         "rot,train_cost\n";
   for (const LosoRow& row : result.rows) {
     const LosoRun& ref = *row.reference;
     md << "| " << row.sequence << " | " << row.chosen << " | " << std::fixed << std::setprecision(3) << row.train_worst
-       << " | " << std::setprecision(4) << ref.rpe_trans << " / " << std::setprecision(3) << ref.rpe_rot
-       << " (max pair " << std::setprecision(2) << max_of(ref.pair_rot) << " deg) | " << cell(row.held_out, &ref)
-       << " |";
+       << " | ";
+    if (budget) md << std::setprecision(2) << row.train_cost << " | ";
+    md << std::setprecision(4) << ref.rpe_trans << " / " << std::setprecision(3) << ref.rpe_rot << " (max pair "
+       << std::setprecision(2) << max_of(ref.pair_rot) << " deg) | " << cell(row.held_out, &ref) << " |";
     for (const LosoRun* r : row.others) md << " " << cell(r, &ref) << " |";
     md << "\n";
     md.unsetf(std::ios::fixed);
@@ -215,7 +255,8 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
         << ref.rpe_trans << "," << ref.rpe_rot << "," << (ok ? row.held_out->rpe_trans : NAN) << ","
         << (ok ? row.held_out->rpe_rot : NAN) << "," << (ok ? ratio(row.held_out->rpe_trans, ref.rpe_trans) : NAN)
         << "," << (ok ? ratio(row.held_out->rpe_rot, ref.rpe_rot) : NAN) << ","
-        << (ok ? max_of(row.held_out->pair_rot) : NAN) << "," << max_of(ref.pair_rot) << "\n";
+        << (ok ? max_of(row.held_out->pair_rot) : NAN) << "," << max_of(ref.pair_rot) << ","
+        << (budget ? row.train_cost : NAN) << "\n";
   }
   runs_csv << "sequence,method,value,ok,rpe_trans,rpe_rot,median_cpu_ms,max_pair_trans,max_pair_rot,error\n";
   pairs_csv << "sequence,method,value,pair,trans_err_m,rot_err_deg\n";

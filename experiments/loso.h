@@ -5,7 +5,8 @@
 // is chosen on all the OTHER sequences (the smallest worst ratio to the reference over them,
 // translational and rotational RPE alike; on a tie, the smallest geometric mean of those
 // per-sequence worst ratios) and only the held-out sequence's RPE at that value is reported. Fixed methods (no grid)
-// are reported beside it for comparison.
+// are reported beside it for comparison. With a CPU budget (LosoOptions::cost_budget) only the
+// values that keep within it on the other sequences are candidates.
 //
 //   LosoOptions o;  o.sequences = {...};  o.method = "robust";  o.parameter = "trust";
 //   o.grid = {30, 100, 300};  o.tracker.finest_level = 1;
@@ -27,6 +28,13 @@ struct LosoOptions {
   odometry::TrackerOptions tracker;  // every run starts from it
   int first_frame = 0, max_frames = -1;
   int progress = -1;
+  // A CPU budget (0: none), for a speed setting: in each fold only the values whose CPU per
+  // pair over the other sequences (the sum of each sequence's median) is at most cost_budget
+  // times cost_method's are candidates, and accuracy chooses among them as above; when no
+  // value keeps within it, the cheapest is chosen. cost_method: the reference or one of
+  // `methods`.
+  double cost_budget = 0.0;
+  std::string cost_method = "weighted";
 };
 
 // One run: a sequence with one method (at one grid value when `value` is set).
@@ -46,6 +54,7 @@ struct LosoRow {
   std::string sequence;
   double chosen = 0.0;       // value chosen without this sequence
   double train_worst = 0.0;  // its worst ratio over the other sequences
+  double train_cost = 0.0;   // with a cost budget: its CPU per pair there / cost_method's
   const LosoRun* reference = nullptr;
   const LosoRun* held_out = nullptr;   // the method at `chosen` on this sequence
   std::vector<const LosoRun*> others;  // the fixed methods, LosoOptions::methods order
@@ -63,7 +72,9 @@ struct LosoResult {
 // the value's range otherwise.
 void set_loso_parameter(odometry::TrackerOptions& options, const std::string& name, double value);
 
-// The runs the protocol needs, in order: per sequence the reference, the grid, the methods.
+// The runs the protocol needs, in order: per sequence the reference, the grid, the methods;
+// bivo::Error for options that cannot be held out (fewer than 2 sequences, an empty grid, a
+// bad parameter or value, a cost budget without its cost method among the runs).
 std::vector<LosoRun> loso_units(const LosoOptions& options);
 void run_loso_unit(const LosoOptions& options, LosoRun& run);
 // The held-out rows from completed runs; bivo::Error when fewer than 2 sequences or a

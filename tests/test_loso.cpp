@@ -2,6 +2,8 @@
 // the one with the smallest worst ratio to the reference over the OTHER sequences (on a tie,
 // the smaller geometric mean), checked on hand-made runs whose choice is known; bad inputs
 // are refused before any run.
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -9,8 +11,10 @@
 
 #include "experiments/loso.h"
 #include "solvers/error.h"
+#include "test_support.h"
 
 using namespace bivo::experiments;
+using bivo::testing::error_of;
 
 namespace {
 
@@ -82,6 +86,83 @@ TEST(Loso, ATieOnTheWorstSequenceGoesToTheSmallerGeometricMean) {
   // sqrt(0.5 * 0.3) -> 3.
   EXPECT_EQ(r.rows[0].chosen, 3.0);
   EXPECT_DOUBLE_EQ(r.rows[0].train_worst, 0.5);
+}
+
+TEST(Loso, ACostBudgetLeavesOnlyTheValuesWithinItOnTheOthers) {
+  LosoOptions o;
+  o.sequences = {"a", "b", "c"};
+  o.grid = {1.0, 2.0, 3.0};
+  o.methods = {"weighted"};
+  o.cost_budget = 1.3;
+  std::vector<LosoRun> runs;
+  const auto timed = [](LosoRun r, double cpu_ms) {
+    r.median_cpu_ms = cpu_ms;
+    return r;
+  };
+  for (int s = 0; s < 3; ++s) {
+    runs.push_back(timed(run(s, "single", 1.0, 1.0), 8.0));
+    runs.push_back(timed(run(s, "weighted", 1.0, 1.0), 10.0));
+    // Value 1 is the most accurate everywhere, 2 next, 3 the least; 3 is the cheapest.
+    runs.push_back(timed(run(s, "robust", 0.5, 0.5, true, 1.0), s == 0 ? 20.0 : 11.0));
+    runs.push_back(timed(run(s, "robust", 0.6, 0.6, true, 2.0), 12.0));
+    runs.push_back(timed(run(s, "robust", 0.7, 0.7, true, 3.0), 10.8));
+  }
+  LosoResult r = assemble_loso(o, runs);
+  ASSERT_EQ(r.rows.size(), 3u);
+  // Held out a: value 1 costs (11 + 11) / (10 + 10) = 1.1x weighted on b and c, within.
+  EXPECT_EQ(r.rows[0].chosen, 1.0);
+  EXPECT_DOUBLE_EQ(r.rows[0].train_cost, 1.1);
+  EXPECT_DOUBLE_EQ(r.rows[0].train_worst, 0.5);
+  // Held out b (or c): a is on the others, value 1 costs (20 + 11) / 20 = 1.55x, beyond the
+  // budget; the most accurate value within it is 2 (1.2x).
+  for (int h : {1, 2}) {
+    EXPECT_EQ(r.rows[h].chosen, 2.0) << h;
+    EXPECT_DOUBLE_EQ(r.rows[h].train_cost, 1.2) << h;
+    EXPECT_DOUBLE_EQ(r.rows[h].train_worst, 0.6) << h;
+  }
+  // No budget: accuracy alone, value 1 in every fold.
+  o.cost_budget = 0.0;
+  for (const LosoRow& row : assemble_loso(o, runs).rows) EXPECT_EQ(row.chosen, 1.0);
+  // A budget nothing keeps within: the cheapest value (3, 1.08x on every pair of sequences).
+  o.cost_budget = 1.05;
+  r = assemble_loso(o, runs);
+  for (const LosoRow& row : r.rows) {
+    EXPECT_EQ(row.chosen, 3.0);
+    EXPECT_DOUBLE_EQ(row.train_cost, 1.08);
+  }
+  // In units of the reference, budget 1.4x single: without a, value 1 costs 1.375x; with a,
+  // only 3 keeps within (1.35x; 1 costs 1.94x, 2 1.5x).
+  o.cost_method = "single";
+  o.cost_budget = 1.4;
+  r = assemble_loso(o, runs);
+  EXPECT_EQ(r.rows[0].chosen, 1.0);
+  EXPECT_EQ(r.rows[1].chosen, 3.0);
+}
+
+TEST(Loso, RefusesACostBudgetItCannotMeasure) {
+  LosoOptions o;
+  o.sequences = {"a", "b"};
+  o.grid = {1.0};
+  o.cost_budget = 1.3;  // in units of weighted, which does not run
+  EXPECT_NE(error_of([&] { loso_units(o); }).find("'weighted', which is neither the reference nor among the methods"),
+            std::string::npos);
+  o.methods = {"weighted"};
+  EXPECT_EQ(loso_units(o).size(), 6u);
+  for (double bad : {-1.0, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    o.cost_budget = bad;
+    EXPECT_NE(error_of([&] { loso_units(o); }).find("cost budget must be finite and >= 0"), std::string::npos) << bad;
+  }
+  o.cost_budget = 1.3;
+  std::vector<LosoRun> runs;
+  for (int s = 0; s < 2; ++s) {
+    runs.push_back(run(s, "single", 1.0, 1.0));
+    runs.push_back(run(s, "robust", 1.0, 1.0, true, 1.0));
+    runs.push_back(run(s, "weighted", 1.0, 1.0));
+  }
+  runs[5].ok = false;
+  runs[5].error = "unreadable frame";
+  EXPECT_NE(error_of([&] { assemble_loso(o, runs); }).find("the cost method's run (weighted) on 'b' failed"),
+            std::string::npos);
 }
 
 TEST(Loso, RefusesWhatCannotBeHeldOut) {

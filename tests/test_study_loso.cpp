@@ -92,6 +92,17 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   EXPECT_NE(hash_with([](Study& t) { t.loso->first_frame = 3; }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->max_frames = 41; }), h);
   EXPECT_NE(hash_with([](Study& t) { t.tracker.levels = 4; }), h);
+  // A cost budget chooses among finished runs: the same runs merge under any budget.
+  EXPECT_EQ(j["loso"].count("cost_budget"), 0u);  // none: the file of a study planned without one
+  Study budgeted = s;
+  budgeted.loso->cost_budget = 1.3;
+  budgeted.loso->cost_method = "joint";
+  EXPECT_EQ(study_hash(budgeted), h);
+  const Study budget_back = study_from_json(nlohmann::json::parse(study_to_json(budgeted).dump()), "s.json");
+  EXPECT_EQ(budget_back.loso->cost_budget, 1.3);
+  EXPECT_EQ(budget_back.loso->cost_method, "joint");
+  budgeted.loso->cost_method = "depth";  // not run
+  EXPECT_NE(error_of([&] { check_study(budgeted); }).find("'depth', which is neither"), std::string::npos);
 
   // Strict: an unknown key, a part of another kind, a bad parameter or method are refused.
   nlohmann::json typo = j;

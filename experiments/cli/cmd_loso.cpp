@@ -28,6 +28,14 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
   cmd->add_option("--grid", a->o.grid, "candidate values of the parameter")->required();
   cmd->add_option("--reference", a->o.reference, "the method the ratios are taken to")->capture_default_str();
   cmd->add_option("--methods", a->o.methods, "methods reported beside, at their defaults (no choice)");
+  cmd->add_option("--cost-budget", a->o.cost_budget,
+                  "for a speed setting: only values whose CPU per pair on the other sequences is at most this many "
+                  "times --cost-method's are candidates (the cheapest when none is; 0: no budget)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--cost-method", a->o.cost_method,
+                  "the method the cost budget is in units of (--reference or one of --methods)")
+      ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);

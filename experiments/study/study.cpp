@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <numeric>
 #include <set>
 
@@ -64,6 +65,10 @@ json parts_json(const Study& s) {
                  {"parameter", o.parameter},     {"grid", o.grid},
                  {"reference", o.reference},     {"methods", o.methods},
                  {"first_frame", o.first_frame}, {"max_frames", o.max_frames}};
+    if (o.cost_budget > 0.0) {  // absent: none, as planned before budgets existed
+      j["loso"]["cost_budget"] = o.cost_budget;
+      j["loso"]["cost_method"] = o.cost_method;
+    }
   }
   return j;
 }
@@ -246,6 +251,8 @@ Study study_from_json(const json& j, const std::string& where) {
     o.methods = lr.strings("methods");
     o.first_frame = lr.integer("first_frame", 0);
     o.max_frames = lr.integer("max_frames", -1);
+    lr.number("cost_budget", o.cost_budget, 0.0, std::numeric_limits<double>::max());  // absent: none
+    lr.string("cost_method", o.cost_method);
     lr.reject_unknown();
     s.loso = o;
   }
@@ -290,7 +297,13 @@ std::string study_hash(const Study& study) {
   // Threads of the per-pixel passes change no result (where the tracker has them): shards
   // may run with other thread counts than planned and still merge.
   if (parts["tracker"].contains("problem")) parts["tracker"]["problem"].erase("threads");
-  parts["tracker"].erase("load_threads");     // nor do the frame loader's
+  parts["tracker"].erase("load_threads");  // nor do the frame loader's
+  // A LOSO cost budget only changes which runs' values are chosen, not the runs: finished
+  // runs merge under another budget.
+  if (parts.contains("loso")) {
+    parts["loso"].erase("cost_budget");
+    parts["loso"].erase("cost_method");
+  }
   const std::string text = parts.dump();      // keys sorted: canonical
   std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64
   for (unsigned char c : text) {
