@@ -175,6 +175,20 @@ TEST(LosoStudy, ABadParameterIsRefusedWhenPlanned) {
   r = shell(bivo_cli() + " plan loso" + flags + q(root / "good.json") + " --parameter trust --grid 100 1000", root);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("loso study, 6 unit(s)"), std::string::npos) << r.err;
+  // A cost budget in units of a method that does not run is refused; with it, the file keeps it.
+  r = shell(bivo_cli() + " plan loso" + flags + q(root / "budget.json") + " --parameter trust --grid 100 1000" +
+                " --cost-budget 1.3",
+            root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("'weighted', which is neither the reference nor among the methods"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(root / "budget.json"));
+  r = shell(bivo_cli() + " plan loso" + flags + q(root / "budget.json") + " --parameter trust --grid 100 1000" +
+                " --methods weighted --cost-budget 1.3",
+            root);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json planned = nlohmann::json::parse(slurp(root / "budget.json"));
+  EXPECT_EQ(planned["loso"]["cost_budget"], 1.3);
+  EXPECT_EQ(planned["loso"]["cost_method"], "weighted");
 }
 
 TEST(LosoStudy, TwoShardsMergeToTheFilesOfOneProcess) {
