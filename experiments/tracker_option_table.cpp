@@ -126,6 +126,10 @@ std::vector<TrackerOption> build_table() {
       number("policy.robust_finest_tolerance", "--robust-finest-tolerance", 0.0, kInf,
              "relative merit change that ends the finest level (--joint-tolerance ends the coarser ones)",
              BIVO_FIELD(policy.robust_finest_tolerance), "robust"),
+      method_own(number("policy.robust_finest_step_tolerance", "--robust-finest-step-tolerance", 0.0, kInf,
+                        "step norm (m, rad) that ends the finest level (--step-tolerance the coarser ones; -1: "
+                        "--step-tolerance there too)",
+                        BIVO_FIELD(policy.robust_finest_step_tolerance), "robust")),
       integer("policy.photometric_start_levels", "--photometric-start-levels", -1, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
               "the method's own, 2 for joint, 1 for robust)",

@@ -104,6 +104,11 @@ struct PolicyParameters {
   // at 640x480 (`bivo loso --cost-budget 1.3`; docs/results/robust.md, "Cost"): 1e-5 costs
   // 1.46x there.
   double robust_finest_tolerance = 1e-3;
+  // method robust: the step norm (m, rad) that ends the finest level (-1: the tracker's
+  // step_tolerance, 1e-4). Its re-estimated weights make the finest level crawl towards the
+  // fixed point, and stopping short leaves pair errors correlated along the motion. Chosen
+  // held out over both resolutions within the CPU budget (docs/results/robust.md, "Cost").
+  double robust_finest_step_tolerance = 2e-5;
 };
 
 // Method robust evaluates its depth trust test (PolicyParameters::trust below kTrustOff).

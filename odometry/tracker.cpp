@@ -183,6 +183,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     const bool finest = level == options.finest_level;
     solver_options.relative_decrease_tolerance =
         method == Method::kRobust && finest ? options.policy.robust_finest_tolerance : level_tolerance;
+    solver_options.step_tolerance =
+        method == Method::kRobust && finest && options.policy.robust_finest_step_tolerance >= 0.0
+            ? options.policy.robust_finest_step_tolerance
+            : options.step_tolerance;
     RgbdProblemOptions level_options = problem_options;
     level_options.jacobian = method_jacobian(method, requested_jacobian, finest);
     if (depth_distrusted) {  // robust: single's problem

@@ -95,6 +95,11 @@ void validate(const TrackerOptions& options) {
     throw Error("robust finest tolerance must be finite and >= 0, got " +
                 std::to_string(options.policy.robust_finest_tolerance));
   }
+  const double fst = options.policy.robust_finest_step_tolerance;
+  if (!(fst == -1.0 || (fst >= 0.0 && std::isfinite(fst)))) {
+    throw Error("robust finest step tolerance must be finite and >= 0, or -1 for --step-tolerance, got " +
+                std::to_string(fst));
+  }
   if (!(options.pixel_motion_tolerance >= 0.0) || !std::isfinite(options.pixel_motion_tolerance)) {
     throw Error("pixel motion tolerance must be finite and >= 0, got " +
                 std::to_string(options.pixel_motion_tolerance));

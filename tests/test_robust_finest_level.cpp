@@ -2,6 +2,8 @@
 // tolerance and step extrapolation by default. Checked as rules and on a real frame pair, where
 // the default run must be bit-identical to the run that asks for the same settings explicitly
 // and differ from runs that ask for others (each setting reaches the tracker).
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -37,6 +39,19 @@ TEST(RobustFinestLevel, ExtrapolationAutoIsRobustsOwn) {
   } catch (const bivo::Error& e) {
     EXPECT_NE(std::string(e.what()).find("robust finest tolerance must be finite and >= 0"), std::string::npos);
   }
+  TrackerOptions step;
+  step.policy.robust_finest_step_tolerance = -1.0;  // the tracker's step tolerance
+  validate(step);
+  for (const double v : {-0.5, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    step.policy.robust_finest_step_tolerance = v;
+    try {
+      validate(step);
+      ADD_FAILURE() << v << " accepted";
+    } catch (const bivo::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("robust finest step tolerance must be finite and >= 0, or -1"),
+                std::string::npos);
+    }
+  }
 }
 
 TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
@@ -48,9 +63,11 @@ TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
   const PreparedFrame &ref = *pair.reference, &cur = *pair.current;
   const auto run = [&](const TrackerOptions& m) { return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), m); };
   const PairResult by_default = run(o);
-  TrackerOptions asked = o, no_extrapolation = o, tight = o, inverse = o;
+  TrackerOptions asked = o, no_extrapolation = o, tight = o, inverse = o, tracker_step = o;
   asked.step_extrapolation = 1.9;
   asked.policy.robust_finest_tolerance = 1e-3;
+  asked.policy.robust_finest_step_tolerance = 2e-5;
+  tracker_step.policy.robust_finest_step_tolerance = 1e-2;  // the first step ends the finest level
   no_extrapolation.step_extrapolation = 1.0;
   tight.policy.robust_finest_tolerance = 1e-5;
   inverse.problem.jacobian = JacobianKind::kInverse;  // at every level, then the exact finish
@@ -60,6 +77,14 @@ TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
   EXPECT_FALSE(same(by_default, tight_run));
   EXPECT_GT(tight_run.levels.back().iterations, by_default.levels.back().iterations);
   EXPECT_FALSE(same(by_default, run(inverse)));
+  const PairResult shorter = run(tracker_step);
+  EXPECT_FALSE(same(by_default, shorter));
+  EXPECT_LT(shorter.levels.back().iterations, by_default.levels.back().iterations);
+  // The finest step tolerance is robust's alone: single ignores it.
+  TrackerOptions single = o, single_step = o;
+  single.method = single_step.method = "single";
+  single_step.policy.robust_finest_step_tolerance = 1e-9;
+  EXPECT_TRUE(same(run(single), run(single_step)));
   // The finest level alone: auto is the forward Jacobian there.
   TrackerOptions one_level = o, one_level_forward = o;
   one_level.levels = one_level_forward.levels = 2;

@@ -44,7 +44,8 @@ std::vector<Bad> invalid_values(const TrackerOption& o) {
   switch (o.type) {
     case OptionType::kNumber:
     case OptionType::kOptionalNumber: {
-      const double below = o.lo_open ? o.lo : o.lo - 1.0;
+      double below = o.lo_open ? o.lo : o.lo - 1.0;
+      if (o.auto_value && below == *o.auto_value) below = 0.5 * (o.lo + *o.auto_value);  // -1 would be "auto"
       out.push_back({experiments::format_option_number(below), below});
       if (std::isfinite(o.hi)) out.push_back({experiments::format_option_number(2 * o.hi + 1), 2 * o.hi + 1});
       out.push_back({"x1", "x1"});
