@@ -65,8 +65,11 @@ std::vector<LosoRun> loso_units(const LosoOptions& o) {
   if (o.grid.empty()) throw Error("loso: the grid of '" + o.parameter + "' is empty");
   odometry::TrackerOptions probe = o.tracker;
   for (double v : o.grid) set_loso_parameter(probe, o.parameter, v);  // a bad name or value fails before any run
-  if (!(o.cost_budget >= 0.0 && std::isfinite(o.cost_budget)))
-    throw Error("loso: the cost budget must be finite and >= 0 (0: none), got " + std::to_string(o.cost_budget));
+  if (!(o.cost_budget >= 0.0 && std::isfinite(o.cost_budget))) {
+    std::ostringstream got;
+    got << o.cost_budget;
+    throw Error("loso: the cost budget must be finite and >= 0 (0: none), got " + got.str());
+  }
   if (o.cost_budget > 0.0 && o.cost_method != o.reference &&
       std::find(o.methods.begin(), o.methods.end(), o.cost_method) == o.methods.end()) {
     throw Error("loso: the cost budget is in units of '" + o.cost_method +

@@ -31,8 +31,7 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
   cmd->add_option("--cost-budget", a->o.cost_budget,
                   "for a speed setting: only values whose CPU per pair on the other sequences is at most this many "
                   "times --cost-method's are candidates (the cheapest when none is; 0: no budget)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->capture_default_str();
   cmd->add_option("--cost-method", a->o.cost_method,
                   "the method the cost budget is in units of (--reference or one of --methods)")
       ->capture_default_str();
