@@ -158,6 +158,11 @@ int method_depth_noise_exponent(Method method, int requested) {
   return uses_joint_weights(method) ? 3 : 0;
 }
 
+int method_affine_brightness(Method method, int requested) {
+  if (requested >= 0) return requested;
+  return method == Method::kJoint ? 1 : 0;
+}
+
 int method_photometric_start_levels(Method method, int requested) {
   if (requested >= 0) return requested;
   return method == Method::kJoint ? 2 : 1;

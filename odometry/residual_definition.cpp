@@ -112,7 +112,7 @@ solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLeve
   double J[6];
   for (Eigen::Index k = 0; k < n; ++k) {
     out.w(k) = weights[k];
-    ctx.warp(ref.x[k], ref.y[k], ref.z[k], ref.intensity[k], w);
+    ctx.warp(ref.x[k], ref.y[k], ref.z[k], options.gain * ref.intensity[k] + options.offset, w);
     if (!(depth ? w.valid_d : w.valid_i)) continue;
     out.r(k) = depth ? w.r_d : w.r_i;
     if (depth && options.depth_noise_exponent != 0) out.r(k) *= std::pow(1.0 / ref.z[k], options.depth_noise_exponent);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "odometry/affine_brightness.h"
 #include "odometry/kernels/kernels.h"
 #include "odometry/residual_definition.h"
 #include "solvers/error.h"
@@ -83,6 +84,10 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
         "RGB-D problem: depth noise exponent must be 0, 1, 2 or 3 (-1 'auto': resolve it first, "
         "method_depth_noise_exponent()), got " +
         std::to_string(options_.depth_noise_exponent));
+  }
+  if (options_.affine_brightness != 0 && options_.affine_brightness != 1) {
+    throw Error("RGB-D problem: affine brightness must be 0 or 1 (-1 'auto': resolve it first), got " +
+                std::to_string(options_.affine_brightness));
   }
   if (options_.jacobian == JacobianKind::kMethodDefault) {
     throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
@@ -184,6 +189,8 @@ WarpParams RgbdOdometryProblem::warp_params(const Eigen::VectorXd& x, ObjectiveM
   p.depth_noise_exponent = options_.depth_noise_exponent;
   p.objectives = mask;
   p.gradients = gradients_;
+  p.gain = static_cast<float>(stats_.brightness_gain);
+  p.offset = static_cast<float>(stats_.brightness_offset);
   return p;
 }
 
@@ -205,8 +212,21 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask,
   warp_x_ = x;
 }
 
-void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, const WarpSums& at) {
+void RgbdOdometryProblem::refit_brightness(WarpSums& at) {
+  const std::size_t n = reference_terms_.count;
+  const float* i1 = reference_terms_.intensity.data();
+  const BrightnessCorrection c =
+      fit_brightness(i1, r_i_.data(), flags(), weights_mask_.intensity ? w_i_.data() : nullptr, n);
+  if (!c.valid) return;
+  stats_.brightness_gain += c.gain;
+  stats_.brightness_offset += c.offset;
+  at.ss_i = apply_brightness(c, i1, r_i_.data(), flags(), n);
+  f_at_warp_.reset();
+}
+
+void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, WarpSums& at) {
   last_linearization_.reset();
+  if (options_.affine_brightness == 1 && mask.intensity && mask.depth) refit_brightness(at);
   const std::size_t n = reference_terms_.count;
   if (options_.joint_weights && mask.intensity && mask.depth) {
     // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
@@ -310,7 +330,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
   if (options.want_full) {
     solvers::ScopedPhase phase(options.profile, "normal_equations");
     const Eigen::Isometry3d T = se3::from_ambient(x);
-    const DoublePathOptions dp{options_.occlusion_margin, gradients_, options_.depth_noise_exponent};
+    const DoublePathOptions dp = double_path_options();
     const auto full = [&](bool depth, bool modelled) {
       if (modelled)
         return double_residuals(reference_terms_, *current_, T, depth, true, (depth ? w_d_ : w_i_).data(), dp);
@@ -472,7 +492,7 @@ solvers::ResidualData RgbdOdometryProblem::residuals(int j, const Eigen::VectorX
   check_x(x);
   const bool depth = (j == 2) != options_.depth_first;
   ensure_weights(x, depth ? ObjectiveMask{false, true} : ObjectiveMask{true, false});
-  const DoublePathOptions dp{options_.occlusion_margin, gradients_, options_.depth_noise_exponent};
+  const DoublePathOptions dp = double_path_options();
   return double_residuals(reference_terms_, *current_, se3::from_ambient(x), depth, with_jacobian,
                           (depth ? w_d_ : w_i_).data(), dp);
 }

@@ -25,6 +25,7 @@
 #include "odometry/joint_weights.h"
 #include "odometry/kernels/kernels.h"
 #include "odometry/reference_terms.h"
+#include "odometry/residual_definition.h"
 #include "odometry/rgbd_pyramid.h"
 #include "odometry/robust_weights.h"
 #include "solvers/geometry/manifold.h"
@@ -51,6 +52,13 @@ struct RgbdProblemOptions {
   // pixels, several times noisier, do not count as much as near ones. 0: r_D as defined. -1
   // ("auto", the tracker's default) names the method's own (method_depth_noise_exponent()).
   int depth_noise_exponent = 0;
+  // 1: r_I = I_2(y) - (a I_1(x) + b), the affine brightness (a, b) refit by weighted least
+  // squares on r_I at every weight stage that weighs r_I and r_D together (auto-exposure and
+  // gain steps are a brightness change, not photometric noise: without it the t-scale of r_I
+  // absorbs them). Not on F_I alone, which cannot tell a brightness change from motion where
+  // the image is smooth (a shifted ramp is an offset); r_D fixes the motion. 0: r_I as defined.
+  // -1 ("auto", the tracker's default) names the method's own (method_affine_brightness()).
+  int affine_brightness = 0;
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;
@@ -80,6 +88,7 @@ struct RgbdLinearizationStats {
   double weight_sum_intensity = 0.0, weight_sum_depth = 0.0;  // trace of Omega_I, Omega_D
   JointScale joint_scale;                                     // options.joint_weights: the scale matrix S (else zero)
   double f_intensity = 0.0, f_depth = 0.0;                    // F_I, F_D at x (0 when not modelled)
+  double brightness_gain = 1.0, brightness_offset = 0.0;      // (a, b) of affine_brightness
 };
 
 class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
@@ -132,7 +141,13 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // weighted_sums also F_j under the stored weights. A no-op when x and mask are cached.
   void warp_all(const Eigen::VectorXd& x, ObjectiveMask mask, bool weighted_sums);
   // Scales of the objectives in `mask` from the residuals in the buffers -> model_.
-  void estimate_weights(ObjectiveMask mask, const WarpSums& at);
+  void estimate_weights(ObjectiveMask mask, WarpSums& at);
+  // affine_brightness: (a, b) refit to the stored r_I, the stored r_I (and at.ss_i) corrected.
+  void refit_brightness(WarpSums& at);
+  DoublePathOptions double_path_options() const {
+    return {options_.occlusion_margin, gradients_, options_.depth_noise_exponent, stats_.brightness_gain,
+            stats_.brightness_offset};
+  }
   // Weights of the objectives in `mask` estimated at x unless some already exist.
   void ensure_weights(const Eigen::VectorXd& x, ObjectiveMask mask);
   void check_x(const Eigen::VectorXd& x) const;

@@ -41,6 +41,18 @@ bool failed_solve(const solvers::Summary& s) {
 
 constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 
+// The tracker's problem options with the method's own settings and "auto" values resolved
+// (the Jacobian kind, which depends on the level, aside).
+RgbdProblemOptions method_problem_options(Method method, const TrackerOptions& options) {
+  RgbdProblemOptions o = options.problem;
+  o.depth_first = method == Method::kDepth;
+  o.joint_weights = uses_joint_weights(method);
+  o.depth_noise_exponent = method_depth_noise_exponent(method, o.depth_noise_exponent);
+  o.affine_brightness = method_affine_brightness(method, o.affine_brightness);
+  o.min_valid_terms = std::max(o.min_valid_terms, options.min_valid_pixels);
+  return o;
+}
+
 // Both starts: two estimates of a level closer than 0.5 deg and 1 cm are one minimum reached
 // from two starts, and the photometric start's is kept (choosing between them by det S would
 // only add noise); the basin failures both starts are for are errors of degrees. Above the
@@ -147,16 +159,12 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     lambda = *defined;
     result.lambda = lambda;
   }
-  RgbdProblemOptions problem_options = options.problem;
-  problem_options.depth_first = method == Method::kDepth;
-  problem_options.joint_weights = uses_joint_weights(method);
-  const JacobianKind requested_jacobian = problem_options.jacobian;
+  RgbdProblemOptions problem_options = method_problem_options(method, options);
+  const JacobianKind requested_jacobian = options.problem.jacobian;
   problem_options.jacobian = method_jacobian(method, requested_jacobian);
-  problem_options.depth_noise_exponent = method_depth_noise_exponent(method, problem_options.depth_noise_exponent);
   // single and depth minimize F_1 alone: the other objective is not built per iteration.
   const bool one_objective = method == Method::kSingle || method == Method::kDepth;
   problem_options.model_f2 = !one_objective;
-  problem_options.min_valid_terms = std::max(problem_options.min_valid_terms, options.min_valid_pixels);
 
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
@@ -401,12 +409,9 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
     throw Error("frame pair: level " + std::to_string(level) + " outside 0.." +
                 std::to_string(reference.pyramid.levels.size() - 1));
   }
-  RgbdProblemOptions po = options.problem;
-  po.depth_first = parse_method(options.method) == Method::kDepth;
-  po.joint_weights = uses_joint_weights(parse_method(options.method));
-  po.jacobian = method_jacobian(parse_method(options.method), po.jacobian, level == options.finest_level);
-  po.depth_noise_exponent = method_depth_noise_exponent(parse_method(options.method), po.depth_noise_exponent);
-  po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
+  const Method method = parse_method(options.method);
+  RgbdProblemOptions po = method_problem_options(method, options);
+  po.jacobian = method_jacobian(method, options.problem.jacobian, level == options.finest_level);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }
 

@@ -45,11 +45,12 @@ InitialGuess parse_initial_guess(const std::string& name);  // "identity" | "con
 const char* to_string(InitialGuess guess);
 
 // The problem options a tracker starts from: RgbdProblemOptions' defaults with the Jacobian
-// kind and the depth noise exponent left to the method ("auto").
+// kind, the depth noise exponent and the affine brightness left to the method ("auto").
 inline RgbdProblemOptions method_default_problem() {
   RgbdProblemOptions o;
   o.jacobian = JacobianKind::kMethodDefault;
   o.depth_noise_exponent = -1;
+  o.affine_brightness = -1;
   return o;
 }
 

@@ -80,6 +80,9 @@ struct WarpParams {
   // r_D (and its Jacobian) divided by (z / 1 m)^p, z the reference term's depth: depth noise
   // that grows with depth (p = 2: Kinect-class disparity). 0: r_D as defined.
   int depth_noise_exponent = 0;
+  // r_I = I_2(y) - (gain I_1(x) + offset): the current image's brightness relative to the
+  // reference's (RgbdProblemOptions::affine_brightness); 1 and 0: r_I as defined.
+  float gain = 1.0f, offset = 0.0f;
   bool weighted_sums = false;  // also F_j = sum w_j r_j^2 with the weights in the buffers
   // false: only the sums (weighted_sums must be set), nothing written to the buffers, which
   // keep the previous warp: an evaluation that no linearization will reuse.

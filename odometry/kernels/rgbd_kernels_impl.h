@@ -126,8 +126,8 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         };
         if (want_i) {
           const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
-          objective(valid_i, i2 - V::load(ref.intensity + k), c.i00, c.i10, c.i01, c.i11, out.r_i, out.w_i, out.gi_u,
-                    out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
+          objective(valid_i, i2 - V::fma(V::set(p.gain), V::load(ref.intensity + k), V::set(p.offset)), c.i00, c.i10,
+                    c.i01, c.i11, out.r_i, out.w_i, out.gi_u, out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
         }
         if (want_d) {
           F r_d = d2 - qz;
