@@ -25,8 +25,7 @@ Study loso_study_by_hand() {
   LosoOptions o;
   o.sequences = {"/data/a/rgbd_dataset_freiburg1_rpy", "/data/b/teddy", "/data/c/teddy"};
   o.method = "robust";
-  o.parameter = "trust";
-  o.grid = {300, 0.1 + 0.2, 1e12};  // 0.1 + 0.2: not a short decimal, must survive bit for bit
+  o.parameters = {{"trust", {300, 0.1 + 0.2, 1e12}}};  // 0.1 + 0.2: not a short decimal, must survive bit for bit
   o.reference = "single";
   o.methods = {"weighted", "joint"};
   o.first_frame = 2;
@@ -62,7 +61,7 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   const Study back = study_from_json(nlohmann::json::parse(j.dump()), "s.json");
   EXPECT_EQ(study_to_json(back), j);
   ASSERT_TRUE(back.loso);
-  EXPECT_EQ(back.loso->grid[1], 0.1 + 0.2);
+  EXPECT_EQ(back.loso->parameters[0].grid[1], 0.1 + 0.2);
   EXPECT_EQ(back.loso->methods, s.loso->methods);
   EXPECT_EQ(back.loso->first_frame, 2);
   EXPECT_EQ(back.loso->max_frames, 40);
@@ -85,8 +84,8 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   EXPECT_EQ(hash_with([](Study& t) { t.seed = 7; }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->sequences.pop_back(); }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->method = "joint"; }), h);
-  EXPECT_NE(hash_with([](Study& t) { t.loso->parameter = "kappa"; }), h);
-  EXPECT_NE(hash_with([](Study& t) { t.loso->grid[0] = 301; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->parameters[0].name = "kappa"; }), h);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->parameters[0].grid[0] = 301; }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->reference = "weighted"; }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->methods.pop_back(); }), h);
   EXPECT_NE(hash_with([](Study& t) { t.loso->first_frame = 3; }), h);
@@ -122,7 +121,7 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   bad["loso"]["methods"][1] = "sideways";
   EXPECT_NE(error_of([&] { study_from_json(bad, "s.json"); }).find("sideways"), std::string::npos);
   Study infinite = s;  // JSON has no infinity: refused when planned, not when read back
-  infinite.loso->grid[2] = std::numeric_limits<double>::infinity();
+  infinite.loso->parameters[0].grid[2] = std::numeric_limits<double>::infinity();
   EXPECT_NE(error_of([&] { check_study(infinite); }).find("not finite"), std::string::npos);
   Study twice = s;
   twice.loso->methods[1] = "single";  // the reference twice: two units of one name
@@ -134,8 +133,7 @@ TEST(LosoStudy, ARunReadsBackBitForBit) {
   LosoRun r;
   r.sequence = 1;
   r.method = "robust";
-  r.has_value = true;
-  r.value = 0.1 + 0.2;
+  r.values = {0.1 + 0.2};
   r.ok = true;
   r.sequence_name = "teddy";
   r.rpe_trans = 1.0 / 3.0;
@@ -146,8 +144,8 @@ TEST(LosoStudy, ARunReadsBackBitForBit) {
   const LosoRun back = loso_run_from_json(nlohmann::json::parse(loso_run_to_json(r).dump()));
   EXPECT_EQ(back.sequence, 1);
   EXPECT_EQ(back.method, "robust");
-  EXPECT_TRUE(back.has_value);
-  EXPECT_EQ(back.value, r.value);
+  EXPECT_EQ(back.values, r.values);
+  EXPECT_EQ(back.finest_level, -1);
   EXPECT_TRUE(back.ok);
   EXPECT_EQ(back.sequence_name, "teddy");
   EXPECT_EQ(back.rpe_trans, r.rpe_trans);
