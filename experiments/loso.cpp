@@ -106,6 +106,10 @@ std::vector<LosoRun> loso_units(const LosoOptions& o) {
                   (earlier.name == p.name ? std::string() : " (as '" + earlier.name + "' and '" + p.name + "')"));
     }
   }
+  for (const LosoParameter& p : o.parameters) {
+    if (!o.finest_levels.empty() && numeric_option(p.name)->key == "finest_level")
+      throw Error("loso: --parameter finest_level and --finest-levels both set the finest level; give one");
+  }
   for (std::size_t k = 0; k < o.finest_levels.size(); ++k) {
     const int level = o.finest_levels[k];
     if (level < 0 || level >= o.tracker.levels) {

@@ -390,5 +390,8 @@ TEST(Loso, RefusesParametersAndLevelsItCannotHoldOut) {
   EXPECT_NE(error_of([&] { loso_units(o); }).find("--finest-levels lists 1 twice"), std::string::npos);
   o.finest_levels = {2, 0};
   EXPECT_EQ(loso_units(o).size(), 20u);
+  o.parameters.push_back({"finest_level", {1.0}});  // the runs' finest level, twice over
+  EXPECT_NE(error_of([&] { loso_units(o); }).find("--parameter finest_level and --finest-levels"), std::string::npos);
+  o.parameters.pop_back();
   EXPECT_EQ(loso_units(o)[5].finest_level, 0);  // in the order given
 }
