@@ -1,15 +1,19 @@
 #pragma once
-// Leave-one-sequence-out: a protocol that cannot tune on what it reports. A method with one
-// free parameter (e.g. robust's trust threshold) runs on every sequence at every grid value,
-// the reference method (single) once per sequence; then for each held-out sequence the value
-// is chosen on all the OTHER sequences (the smallest worst ratio to the reference over them,
-// translational and rotational RPE alike; on a tie, the smallest geometric mean of those
-// per-sequence worst ratios) and only the held-out sequence's RPE at that value is reported. Fixed methods (no grid)
-// are reported beside it for comparison. With a CPU budget (LosoOptions::cost_budget) only the
-// values that keep within it on the other sequences are candidates.
+// Leave-one-sequence-out: a protocol that cannot tune on what it reports. A method with free
+// parameters (e.g. robust's trust threshold) runs on every sequence at every setting, the
+// cartesian product of the parameters' grids, the reference method (single) once per
+// sequence; then for each held-out sequence the setting is chosen on all the OTHER sequences
+// (the smallest worst ratio to the reference over them, translational and rotational RPE
+// alike; on a tie, the smallest geometric mean of those per-sequence worst ratios) and only
+// the held-out sequence's RPE at that setting is reported. Fixed methods (no grid) are
+// reported beside it for comparison. With a CPU budget (LosoOptions::cost_budget) only the
+// settings that keep within it on the other sequences are candidates. With pooled finest
+// levels (LosoOptions::finest_levels) every run is made at each level, and the worst ratio,
+// the geometric mean and the budget cover every level at once (each against the reference
+// at the same level).
 //
-//   LosoOptions o;  o.sequences = {...};  o.method = "robust";  o.parameter = "trust";
-//   o.grid = {30, 100, 300};  o.tracker.finest_level = 1;
+//   LosoOptions o;  o.sequences = {...};  o.method = "robust";
+//   o.parameters = {{"trust", {30, 100, 300}}};  o.tracker.finest_level = 1;
 //   LosoResult r = run_loso(o);  write_loso(r, "out/");
 #include <string>
 #include <vector>
@@ -18,31 +22,40 @@
 
 namespace bivo::experiments {
 
+struct LosoParameter {
+  std::string name = "trust";  // a numeric tracker option (set_loso_parameter)
+  std::vector<double> grid;    // its candidate values
+};
+
 struct LosoOptions {
   std::vector<std::string> sequences;
   std::string method = "robust";
-  std::string parameter = "trust";  // a numeric tracker option (set_loso_parameter)
-  std::vector<double> grid;
+  // Chosen together: the candidate settings are the cartesian product of the grids, the
+  // first parameter's values varying slowest (loso_settings).
+  std::vector<LosoParameter> parameters = {LosoParameter{}};
   std::string reference = "single";
   std::vector<std::string> methods;  // reported beside, at their defaults
   odometry::TrackerOptions tracker;  // every run starts from it
+  // Pooled finest levels: every run is made at each (overriding tracker.finest_level) and
+  // the choice covers them all; empty: tracker.finest_level alone.
+  std::vector<int> finest_levels;
   int first_frame = 0, max_frames = -1;
   int progress = -1;
-  // A CPU budget (0: none), for a speed setting: in each fold only the values whose CPU per
+  // A CPU budget (0: none), for a speed setting: in each fold only the settings whose CPU per
   // pair over the other sequences (the sum of each sequence's median) is at most cost_budget
-  // times cost_method's are candidates, and accuracy chooses among them as above; when no
-  // value keeps within it, the cheapest is chosen. cost_method: the reference or one of
-  // `methods`.
+  // times cost_method's, at every finest level, are candidates, and accuracy chooses among
+  // them as above; when none keeps within it, the cheapest (at its most expensive level) is
+  // chosen. cost_method: the reference or one of `methods`.
   double cost_budget = 0.0;
   std::string cost_method = "weighted";
 };
 
-// One run: a sequence with one method (at one grid value when `value` is set).
+// One run: a sequence with one method (at one setting when `values` is set) at one level.
 struct LosoRun {
   int sequence = 0;
   std::string method;
-  bool has_value = false;
-  double value = 0.0;
+  std::vector<double> values;  // the setting, one value per parameter; empty: reference or fixed method
+  int finest_level = -1;       // with pooled finest levels, the run's; -1: tracker.finest_level
   bool ok = false;
   std::string sequence_name, error;
   double rpe_trans = 0.0, rpe_rot = 0.0;  // RMSE over 1-s windows [m/s], [deg/s]
@@ -50,12 +63,14 @@ struct LosoRun {
   std::vector<double> pair_trans, pair_rot;  // per-pair errors against ground truth [m], [deg]
 };
 
+// One held-out sequence (with pooled finest levels: one row per level, sequence-major).
 struct LosoRow {
   std::string sequence;
-  double chosen = 0.0;       // value chosen without this sequence
-  double train_worst = 0.0;  // its worst ratio over the other sequences
-  double train_cost = 0.0;   // with a cost budget: its CPU per pair there / cost_method's
-  const LosoRun* reference = nullptr;
+  int finest_level = -1;               // with pooled finest levels, the row's; -1 otherwise
+  std::vector<double> chosen;          // the setting chosen without this sequence (per parameter)
+  double train_worst = 0.0;            // its worst ratio over the other sequences (and every level)
+  double train_cost = 0.0;             // with a cost budget: its CPU per pair there / cost_method's, at this level
+  const LosoRun* reference = nullptr;  // this sequence's, at this level
   const LosoRun* held_out = nullptr;   // the method at `chosen` on this sequence
   std::vector<const LosoRun*> others;  // the fixed methods, LosoOptions::methods order
 };
@@ -72,9 +87,15 @@ struct LosoResult {
 // the value's range otherwise.
 void set_loso_parameter(odometry::TrackerOptions& options, const std::string& name, double value);
 
-// The runs the protocol needs, in order: per sequence the reference, the grid, the methods;
-// bivo::Error for options that cannot be held out (fewer than 2 sequences, an empty grid, a
-// bad parameter or value, a cost budget without its cost method among the runs).
+// The candidate settings: the cartesian product of the parameters' grids, one value per
+// parameter, the first parameter's varying slowest.
+std::vector<std::vector<double>> loso_settings(const LosoOptions& options);
+
+// The runs the protocol needs, in order: per sequence (and per pooled finest level) the
+// reference, the settings, the methods; bivo::Error for options that cannot be held out
+// (fewer than 2 sequences, no parameter, one given twice, an empty grid, a bad parameter or
+// value, a finest level outside the pyramid or listed twice, a cost budget without its cost
+// method among the runs).
 std::vector<LosoRun> loso_units(const LosoOptions& options);
 void run_loso_unit(const LosoOptions& options, LosoRun& run);
 // The held-out rows from completed runs; bivo::Error when fewer than 2 sequences or a
@@ -83,7 +104,10 @@ LosoResult assemble_loso(const LosoOptions& options, std::vector<LosoRun> runs);
 LosoResult run_loso(const LosoOptions& options);
 
 // loso.md (the held-out table), loso.csv (the same), runs.csv (every run) and pairs.csv
-// (every pair's error of every run) into dir, atomically; returns the Markdown.
+// (every pair's error of every run) into dir, atomically; returns the Markdown. One
+// parameter's values are in columns "chosen" (loso.csv) and "value" (runs.csv, pairs.csv);
+// several have a column each, "chosen:<name>" and "value:<name>". Pooled finest levels give
+// a row per (held-out sequence, level) and a finest-level column in every file.
 std::string write_loso(const LosoResult& result, const std::string& dir);
 
 }  // namespace bivo::experiments

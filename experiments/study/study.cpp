@@ -61,10 +61,19 @@ json parts_json(const Study& s) {
   }
   if (s.loso) {
     const LosoOptions& o = *s.loso;
-    j["loso"] = {{"sequences", o.sequences},     {"method", o.method},
-                 {"parameter", o.parameter},     {"grid", o.grid},
-                 {"reference", o.reference},     {"methods", o.methods},
-                 {"first_frame", o.first_frame}, {"max_frames", o.max_frames}};
+    j["loso"] = {{"sequences", o.sequences}, {"method", o.method},           {"reference", o.reference},
+                 {"methods", o.methods},     {"first_frame", o.first_frame}, {"max_frames", o.max_frames}};
+    // One parameter as "parameter" and "grid", as planned before several could be chosen
+    // together (the same hash); several as "parameters": [{"parameter", "grid"}, ...].
+    if (o.parameters.size() == 1) {
+      j["loso"]["parameter"] = o.parameters[0].name;
+      j["loso"]["grid"] = o.parameters[0].grid;
+    } else {
+      j["loso"]["parameters"] = json::array();
+      for (const LosoParameter& p : o.parameters)
+        j["loso"]["parameters"].push_back({{"parameter", p.name}, {"grid", p.grid}});
+    }
+    if (!o.finest_levels.empty()) j["loso"]["finest_levels"] = o.finest_levels;  // absent: the tracker's
     if (o.cost_budget > 0.0) {  // absent: none, as planned before budgets existed
       j["loso"]["cost_budget"] = o.cost_budget;
       j["loso"]["cost_method"] = o.cost_method;
@@ -92,27 +101,33 @@ std::string number_text(double v) {
 // What would make a LOSO run fail for its options rather than its data, refused before any
 // run: too few sequences, an empty grid, a bad parameter or value (loso_units), a bad method.
 void check_loso(const LosoOptions& o) {
-  for (double v : o.grid) {
-    if (!std::isfinite(v)) {
-      throw Error("loso: grid value " + number_text(v) + " of '" + o.parameter +
-                  "' is not finite (a study file is JSON, which has none: give a large number)");
+  for (const LosoParameter& p : o.parameters) {
+    for (double v : p.grid) {
+      if (!std::isfinite(v)) {
+        throw Error("loso: grid value " + number_text(v) + " of '" + p.name +
+                    "' is not finite (a study file is JSON, which has none: give a large number)");
+      }
     }
   }
   loso_units(o);
-  for (double v : o.grid) {
-    odometry::TrackerOptions t = o.tracker;
-    t.method = o.method;
-    t.backend = "";
-    set_loso_parameter(t, o.parameter, v);
-    odometry::validate(t);
-  }
-  std::vector<std::string> fixed = o.methods;
-  fixed.push_back(o.reference);
-  for (const std::string& m : fixed) {
-    odometry::TrackerOptions t = o.tracker;
-    t.method = m;
-    t.backend = "";
-    odometry::validate(t);
+  const std::vector<int> levels = o.finest_levels.empty() ? std::vector<int>{o.tracker.finest_level} : o.finest_levels;
+  for (int level : levels) {
+    odometry::TrackerOptions at_level = o.tracker;
+    at_level.finest_level = level;
+    at_level.backend = "";
+    for (const std::vector<double>& setting : loso_settings(o)) {
+      odometry::TrackerOptions t = at_level;
+      t.method = o.method;
+      for (std::size_t k = 0; k < setting.size(); ++k) set_loso_parameter(t, o.parameters[k].name, setting[k]);
+      odometry::validate(t);
+    }
+    std::vector<std::string> fixed = o.methods;
+    fixed.push_back(o.reference);
+    for (const std::string& m : fixed) {
+      odometry::TrackerOptions t = at_level;
+      t.method = m;
+      odometry::validate(t);
+    }
   }
 }
 
@@ -245,8 +260,28 @@ Study study_from_json(const json& j, const std::string& where) {
     LosoOptions o;
     o.sequences = lr.strings("sequences");
     o.method = lr.string("method");
-    o.parameter = lr.string("parameter");
-    o.grid = lr.numbers("grid");
+    if (const json* several = lr.find("parameters")) {
+      if (lr.find("parameter") || lr.find("grid"))
+        throw Error(lr.path("parameters") + ": either 'parameters' or 'parameter' and 'grid', not both");
+      if (!several->is_array()) throw Error(lr.path("parameters") + ": must be an array, got " + several->type_name());
+      o.parameters.clear();
+      for (const json& e : *several) {
+        Reader er(e, lr.path("parameters") + "[" + std::to_string(o.parameters.size()) + "]");
+        o.parameters.push_back({er.string("parameter"), er.numbers("grid")});
+        er.reject_unknown();
+      }
+    } else {
+      o.parameters = {{lr.string("parameter"), lr.numbers("grid")}};
+    }
+    if (const json* levels = lr.find("finest_levels")) {  // absent: the tracker's finest level
+      if (!levels->is_array() || levels->empty())
+        throw Error(lr.path("finest_levels") + ": must be a non-empty array of levels, got " + levels->dump());
+      for (const json& v : *levels) {
+        if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() > 7)
+          throw Error(lr.path("finest_levels") + ": every entry must be a level in 0..7, got " + v.dump());
+        o.finest_levels.push_back(v.get<int>());
+      }
+    }
     o.reference = lr.string("reference");
     o.methods = lr.strings("methods");
     o.first_frame = lr.integer("first_frame", 0);
@@ -384,10 +419,12 @@ std::vector<StudyUnit> study_units(const Study& s) {
     for (size_t k = 0; k < runs.size(); ++k) {
       const LosoRun& r = runs[k];
       std::string what = token(r.method);
-      if (r.has_value) {
-        const auto n = std::find(o.grid.begin(), o.grid.end(), r.value) - o.grid.begin();
-        what += "/" + token(o.parameter + "-" + std::to_string(n) + "=" + number_text(r.value));
+      for (std::size_t p = 0; p < r.values.size(); ++p) {
+        const std::vector<double>& grid = o.parameters[p].grid;
+        const auto n = std::find(grid.begin(), grid.end(), r.values[p]) - grid.begin();
+        what += "/" + token(o.parameters[p].name + "-" + std::to_string(n) + "=" + number_text(r.values[p]));
       }
+      if (r.finest_level >= 0) what += "/finest-" + std::to_string(r.finest_level);
       add("loso", int(k),
           std::to_string(r.sequence) + "-" + token(sequence_label(o.sequences[r.sequence])) + "/" + what);
     }

@@ -6,7 +6,8 @@
 //   sweep:  one per sequence x {single reference, each lambda, each epsilon} (sweep_units)
 //   pareto: one per frame pair (run_pareto_study)
 //   report: the units of its table, its sweep and its Pareto pairs
-//   loso:   one per sequence x {reference, each grid value, each fixed method} (loso_units)
+//   loso:   one per sequence x finest level x {reference, each setting, each fixed method}
+//           (loso_units; a setting: one value per parameter, the product of their grids)
 // The engines run a unit and assemble their tables from unit results; this file only
 // describes, names and deals out the units.
 //
@@ -24,6 +25,9 @@
 //    "report": {"title": "...", "preamble": "..."},
 //    "loso": {"sequences": [...], "method": "robust", "parameter": "trust", "grid": [...],
 //             "reference": "single", "methods": [...], "first_frame": 0, "max_frames": -1}}
+//   (loso with several parameters: "parameters": [{"parameter": ..., "grid": [...]}, ...] in
+//   place of "parameter" and "grid"; with pooled finest levels "finest_levels": [0, 1]; with a
+//   cost budget "cost_budget" and "cost_method", not hashed)
 #include <cstdint>
 #include <optional>
 #include <string>

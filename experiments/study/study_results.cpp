@@ -333,27 +333,36 @@ SweepRun sweep_run_from_json(const json& j) {
   return r;
 }
 
+// One parameter's value as "has_value" and "value", as written before several could be
+// chosen together; several as "values" too; a pooled finest level as "finest_level".
 json loso_run_to_json(const LosoRun& r) {
-  return {{"sequence_index", r.sequence},
-          {"method", r.method},
-          {"has_value", r.has_value},
-          {"value", num(r.value)},
-          {"ok", r.ok},
-          {"sequence", r.sequence_name},
-          {"error", r.error},
-          {"rpe_trans", num(r.rpe_trans)},
-          {"rpe_rot", num(r.rpe_rot)},
-          {"median_cpu_ms", num(r.median_cpu_ms)},
-          {"pair_trans", nums(r.pair_trans)},
-          {"pair_rot", nums(r.pair_rot)}};
+  json j = {{"sequence_index", r.sequence},
+            {"method", r.method},
+            {"has_value", !r.values.empty()},
+            {"value", num(r.values.empty() ? 0.0 : r.values[0])},
+            {"ok", r.ok},
+            {"sequence", r.sequence_name},
+            {"error", r.error},
+            {"rpe_trans", num(r.rpe_trans)},
+            {"rpe_rot", num(r.rpe_rot)},
+            {"median_cpu_ms", num(r.median_cpu_ms)},
+            {"pair_trans", nums(r.pair_trans)},
+            {"pair_rot", nums(r.pair_rot)}};
+  if (r.values.size() > 1) j["values"] = nums(r.values);
+  if (r.finest_level >= 0) j["finest_level"] = r.finest_level;
+  return j;
 }
 
 LosoRun loso_run_from_json(const json& j) {
   LosoRun r;
   r.sequence = j.at("sequence_index").get<int>();
   r.method = j.at("method").get<std::string>();
-  r.has_value = j.at("has_value").get<bool>();
-  r.value = dbl(j.at("value"));
+  if (j.contains("values")) {
+    r.values = dbls(j.at("values"));
+  } else if (j.at("has_value").get<bool>()) {
+    r.values = {dbl(j.at("value"))};
+  }
+  if (j.contains("finest_level")) r.finest_level = j.at("finest_level").get<int>();
   r.ok = j.at("ok").get<bool>();
   r.sequence_name = j.at("sequence").get<std::string>();
   r.error = j.at("error").get<std::string>();
