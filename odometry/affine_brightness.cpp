@@ -2,36 +2,33 @@
 
 namespace bivo::odometry {
 
-BrightnessCorrection fit_brightness(const float* intensity, const float* r_i, const std::uint8_t* flags,
-                                    const float* weights, std::size_t n) {
-  double s_xx = 0.0, s_x = 0.0, s_1 = 0.0, s_xr = 0.0, s_r = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!(flags[k] & 1)) continue;
-    const double w = weights ? weights[k] : 1.0, x = intensity[k], r = r_i[k];
-    s_xx += w * x * x;
-    s_x += w * x;
-    s_1 += w;
-    s_xr += w * x * r;
-    s_r += w * r;
-  }
-  const double det = s_xx * s_1 - s_x * s_x;
+BrightnessCorrection solve_brightness(const BrightnessSums& s) {
+  // In the kernels' centred x = I_1 - c: r ~ da x + e, then db = e - da c.
+  const double det = s.wxx * s.w - s.wx * s.wx;
   BrightnessCorrection c;
-  if (!(s_1 > 0.0) || !(det > 1e-9 * s_xx * s_1)) return c;
-  c.gain = (s_1 * s_xr - s_x * s_r) / det;
-  c.offset = (s_xx * s_r - s_x * s_xr) / det;
+  if (!(s.w > 0.0) || !(det > 1e-9 * s.wxx * s.w)) return c;
+  c.gain = (s.w * s.wxr - s.wx * s.wr) / det;
+  c.offset = (s.wxx * s.wr - s.wx * s.wxr) / det - c.gain * kBrightnessCentre;
   c.valid = true;
   return c;
 }
 
-double apply_brightness(const BrightnessCorrection& c, const float* intensity, float* r_i, const std::uint8_t* flags,
-                        std::size_t n) {
-  double ss = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!(flags[k] & 1)) continue;
-    r_i[k] -= static_cast<float>(c.gain * intensity[k] + c.offset);
-    ss += double(r_i[k]) * r_i[k];
-  }
-  return ss;
+BrightnessCorrection refit_stored_brightness(const KernelTable& kernels, const float* intensity, const TermBuffers& buf,
+                                             std::size_t terms, bool weighted, int threads, double& sum_squares) {
+  const BrightnessCorrection c =
+      solve_brightness(sum_over_chunks<BrightnessSums>(terms, kChunkTerms, threads, [&](std::size_t b, std::size_t e) {
+        return kernels.brightness_sums(intensity, buf, weighted, b, e);
+      }));
+  if (!c.valid) return c;
+  struct SquareSum {
+    double value = 0.0;
+    void add(const SquareSum& other) { value += other.value; }
+  };
+  const float g = static_cast<float>(c.gain), o = static_cast<float>(c.offset);
+  sum_squares = sum_over_chunks<SquareSum>(terms, kChunkTerms, threads, [&](std::size_t b, std::size_t e) {
+                  return SquareSum{kernels.correct_brightness(g, o, intensity, buf, b, e)};
+                }).value;
+  return c;
 }
 
 }  // namespace bivo::odometry

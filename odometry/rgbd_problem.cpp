@@ -213,14 +213,12 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask,
 }
 
 void RgbdOdometryProblem::refit_brightness(WarpSums& at) {
-  const std::size_t n = reference_terms_.count;
-  const float* i1 = reference_terms_.intensity.data();
   const BrightnessCorrection c =
-      fit_brightness(i1, r_i_.data(), flags(), weights_mask_.intensity ? w_i_.data() : nullptr, n);
+      refit_stored_brightness(*kernels_, reference_terms_.intensity.data(), buffers(), r_i_.size(),
+                              weights_mask_.intensity, options_.threads, at.ss_i);
   if (!c.valid) return;
   stats_.brightness_gain += c.gain;
   stats_.brightness_offset += c.offset;
-  at.ss_i = apply_brightness(c, i1, r_i_.data(), flags(), n);
   f_at_warp_.reset();
 }
 

@@ -54,23 +54,30 @@ RgbdProblemOptions unit_weights(int affine) {
 }  // namespace
 
 // At the true motion the brightened image is a I_1 + b up to interpolation: the first weight
-// stage recovers (a, b), and r_I is what it is on the unbrightened pair.
+// stage recovers (a, b) with every instruction set's kernels, and r_I is what it is on the
+// unbrightened pair.
 TEST(AffineBrightness, RecoversTheGainAndOffsetAtTheTrueMotion) {
   const BrightenedScene& s = brightened();
   const RgbdLevel& a = s.reference.pyramid.levels[0];
   const RgbdLevel& b = s.current.pyramid.levels[0];
   const Eigen::VectorXd x = se3::to_ambient(s.T_21);
-  RgbdOdometryProblem fitted(a, b, unit_weights(1)), plain(a, b, unit_weights(0));
-  fitted.linearize(x, {});
-  plain.linearize(x, {});
-  EXPECT_NEAR(fitted.last_stats().brightness_gain, kGain, 2e-3);
-  EXPECT_NEAR(fitted.last_stats().brightness_offset, kOffset, 0.3);
-  EXPECT_EQ(plain.last_stats().brightness_gain, 1.0);
-  EXPECT_EQ(plain.last_stats().brightness_offset, 0.0);
-  // Without the fit F_I holds the brightness change, (a - 1) I + b, about 5 gray levels per term.
-  const double f_fitted = fitted.evaluate(x)[0], f_plain = plain.evaluate(x)[0];
-  EXPECT_LT(f_fitted, 1e-2 * f_plain);
-  EXPECT_GT(f_plain, 9.0 * fitted.last_stats().valid_intensity);
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    RgbdOdometryProblem fitted(a, b, unit_weights(1)), plain(a, b, unit_weights(0));
+    fitted.set_kernel_isa(isa);
+    plain.set_kernel_isa(isa);
+    fitted.linearize(x, {});
+    plain.linearize(x, {});
+    EXPECT_NEAR(fitted.last_stats().brightness_gain, kGain, 2e-3);
+    EXPECT_NEAR(fitted.last_stats().brightness_offset, kOffset, 0.3);
+    EXPECT_EQ(plain.last_stats().brightness_gain, 1.0);
+    EXPECT_EQ(plain.last_stats().brightness_offset, 0.0);
+    // Without the fit F_I holds the brightness change, (a - 1) I + b, about 5 gray levels per term.
+    const double f_fitted = fitted.evaluate(x)[0], f_plain = plain.evaluate(x)[0];
+    EXPECT_LT(f_fitted, 1e-2 * f_plain);
+    EXPECT_GT(f_plain, 9.0 * fitted.last_stats().valid_intensity);
+  }
 }
 
 // The float kernels and the double path (residuals(), full data) apply the same (a, b).

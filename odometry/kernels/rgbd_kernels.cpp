@@ -114,6 +114,14 @@ void ScaleSums::add(const ScaleSums& o) {
   slope += o.slope;
 }
 
+void BrightnessSums::add(const BrightnessSums& o) {
+  w += o.w;
+  wx += o.wx;
+  wxx += o.wxx;
+  wr += o.wr;
+  wxr += o.wxr;
+}
+
 void JointScaleSums::add(const JointScaleSums& o) {
   m_ii += o.m_ii;
   m_id += o.m_id;

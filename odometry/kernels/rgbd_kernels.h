@@ -130,6 +130,13 @@ struct WeighSums {
   double f_i = 0, f_d = 0, weight_sum_i = 0, weight_sum_d = 0;
   void add(const WeighSums& o);
 };
+// The affine brightness fit (affine_brightness.h) over the terms with a valid r_I, x = I_1 -
+// kBrightnessCentre (centred: float lane sums of x^2 keep their digits), w the stored w_I or 1.
+constexpr float kBrightnessCentre = 128.0f;
+struct BrightnessSums {
+  double w = 0, wx = 0, wxx = 0, wr = 0, wxr = 0;
+  void add(const BrightnessSums& o);
+};
 
 struct NormalParams {
   PoseF pose;
@@ -160,6 +167,12 @@ struct KernelTable {
   ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
   JointScaleSums (*joint_scale_sums)(const JointScaleParams&, const TermBuffers&, std::size_t begin, std::size_t end);
   WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
+  // Sums for the brightness fit (weighted: under the stored w_I, else unit weights) and its
+  // correction r_I -= gain I_1 + offset on the valid terms, returning the new sum of r_I^2.
+  BrightnessSums (*brightness_sums)(const float* intensity, const TermBuffers&, bool weighted, std::size_t begin,
+                                    std::size_t end);
+  double (*correct_brightness)(float gain, float offset, const float* intensity, const TermBuffers&, std::size_t begin,
+                               std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
                                  std::size_t begin, std::size_t end);
 };

@@ -459,10 +459,19 @@ std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std:
   return k;
 }
 
+#include "odometry/kernels/brightness_kernels_impl.h"
+
 template <class V>
 KernelTable make_table(KernelIsa isa) {
-  return {isa,           &reference_row<V>,       &warp<V>, &t_scale_sums<V>, &joint_scale_sums<V>,
-          &weigh_any<V>, &normal_equations_any<V>};
+  return {isa,
+          &reference_row<V>,
+          &warp<V>,
+          &t_scale_sums<V>,
+          &joint_scale_sums<V>,
+          &weigh_any<V>,
+          &brightness_sums<V>,
+          &correct_brightness<V>,
+          &normal_equations_any<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS

@@ -1,0 +1,55 @@
+// The affine brightness kernels (KernelTable::brightness_sums, correct_brightness) as templates
+// over a lane type; included by rgbd_kernels_impl.h inside its namespace BIVO_KERNEL_NS; no
+// include guard on purpose. x = I_1 - kBrightnessCentre; invalid r_I lanes are 0 and stay 0.
+
+template <class V>
+BrightnessSums brightness_sums(const float* intensity, const TermBuffers& buf, bool weighted, std::size_t begin,
+                               std::size_t end) {
+  using F = typename V::F;
+  using M = typename V::M;
+  const F zero = V::set(0.0f), one = V::set(1.0f), centre = V::set(kBrightnessCentre);
+  BrightnessSums total;
+  for (std::size_t s = begin; s < end; s += kFlushTerms) {
+    const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
+    F sw = zero, swx = zero, swxx = zero, swr = zero, swxr = zero;
+    for (std::size_t k = s; k < s_end; k += V::kWidth) {
+      const M valid = V::flag(buf.flags + k, 1);
+      const F w = V::select(valid, weighted ? V::load(buf.w_i + k) : one, zero);
+      const F x = V::load(intensity + k) - centre, r = V::load(buf.r_i + k);
+      const F wx = w * x;
+      sw = sw + w;
+      swx = swx + wx;
+      swxx = V::fma(wx, x, swxx);
+      swr = V::fma(w, r, swr);
+      swxr = V::fma(wx, r, swxr);
+    }
+    total.w += V::sum(sw);
+    total.wx += V::sum(swx);
+    total.wxx += V::sum(swxx);
+    total.wr += V::sum(swr);
+    total.wxr += V::sum(swxr);
+  }
+  return total;
+}
+
+template <class V>
+double correct_brightness(float gain, float offset, const float* intensity, const TermBuffers& buf, std::size_t begin,
+                          std::size_t end) {
+  using F = typename V::F;
+  using M = typename V::M;
+  const F g = V::set(gain), o = V::set(offset);
+  double ss = 0.0;
+  for (std::size_t s = begin; s < end; s += kFlushTerms) {
+    const std::size_t s_end = s + kFlushTerms < end ? s + kFlushTerms : end;
+    F acc = V::set(0.0f);
+    for (std::size_t k = s; k < s_end; k += V::kWidth) {
+      const M valid = V::flag(buf.flags + k, 1);
+      const F r0 = V::load(buf.r_i + k);
+      const F r = V::select(valid, r0 - V::fma(g, V::load(intensity + k), o), r0);
+      V::store(buf.r_i + k, r);
+      acc = V::fma(r, r, acc);
+    }
+    ss += V::sum(acc);
+  }
+  return ss;
+}
