@@ -143,6 +143,34 @@ TEST(HardeningPng, HeaderOnly100000x100000) {
   EXPECT_TRUE(contains(error_of([&] { odometry::io::read_png16(depth); }), depth));
 }
 
+// The process's peak virtual size in kB (/proc/self/status VmPeak), 0 where unknown.
+long vm_peak_kb() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmPeak:", 0) == 0) return std::stol(line.substr(7));
+  }
+  return 0;
+}
+
+// Found by fuzz-ci: 67 bytes whose sPLT chunk claims 1,936,946,035 bytes made libpng allocate
+// them before reading any (an out-of-memory finding). The reader skips ancillary chunks.
+TEST(HardeningPng, AncillaryChunkClaiming1point9GB) {
+  const std::string bytes = std::string(
+                                "\x89PNG\r\n\x1a\n"  // signature, then IHDR: 3 x 2 palette
+                                "\x00\x00\x00\x0dIHDR\x00\x00\x00\x03\x00\x00\x00\x02\x08\x03\x00\x00\x00"
+                                "\xaa\xaa\x96\x28",
+                                33) +
+                            "ssss" + "sPLT" + "E\xffG\r\n";  // length 0x73737373
+  const std::string file = write_text("splt.png", bytes);
+  const long before = vm_peak_kb();
+  const std::string msg = error_of([&] { odometry::io::read_png8(file); });
+  EXPECT_TRUE(contains(msg, "corrupt PNG '" + file + "'")) << msg;
+  if (before > 0) {
+    EXPECT_LT(vm_peak_kb() - before, 256L * 1024) << "the chunk's claimed length was allocated";
+  }
+}
+
 // Item 12: a valid palette PNG with a tRNS chunk was rejected as having 4 channels.
 TEST(HardeningPng, PaletteWithTransparencyChunk) {
   const std::string file = temp("palette_trns.png");
