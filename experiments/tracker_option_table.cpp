@@ -163,6 +163,10 @@ std::vector<TrackerOption> build_table() {
               "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at "
               "most N iterations (0: off)",
               BIVO_FIELD(exact_finish_iterations)),
+      integer("retime_depth", "--retime-depth", 0, 1,
+              "unsynchronized depth: re-estimate the pair on depth images moved to their colour images' times "
+              "with the pair's first estimate (1), or take them as synchronized (0)",
+              BIVO_FIELD(retime_depth)),
       other(T::kBoolean, "evaluate_unused_objective", "--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end",
             BIVO_FIELD(evaluate_unused_objective)),

@@ -176,6 +176,7 @@ RgbdPyramid& RgbdPyramid::operator=(RgbdPyramid&& o) noexcept {
   if (this != &o) {
     recycle_levels(levels);
     timestamp = o.timestamp;
+    depth_delay = o.depth_delay;
     levels = std::move(o.levels);
   }
   return *this;
@@ -203,6 +204,7 @@ RgbdPyramid build_pyramid(io::RgbdImage image, const io::Intrinsics& K, int leve
   }
   RgbdPyramid p;
   p.timestamp = image.timestamp;
+  p.depth_delay = image.depth_delay;
   p.levels.resize(static_cast<std::size_t>(levels));
   RgbdLevel& base = p.levels[0];
   base.level = 0;

@@ -35,7 +35,8 @@ struct RgbdLevel {
 // page faults, no zero-fill; ~10 % of a 320x240 pair's CPU time before). Level 0 holds the
 // decoded frame's arrays and is freed as usual.
 struct RgbdPyramid {
-  double timestamp = 0.0;
+  double timestamp = 0.0;         // of the colour image
+  double depth_delay = 0.0;       // depth image's time - timestamp [s] (depth_retiming.h)
   std::vector<RgbdLevel> levels;  // [0] = full resolution
 
   RgbdPyramid() = default;

@@ -13,6 +13,7 @@
 #include <thread>
 #include <utility>
 
+#include "odometry/depth_retiming.h"
 #include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "odometry/robust_level.h"
@@ -120,8 +121,11 @@ PreparedFrame prepare_frame(io::RgbdImage image, const io::Intrinsics& K, int le
   return f;
 }
 
-PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
-                           const Eigen::Isometry3d& initial, const TrackerOptions& options) {
+namespace {
+
+// One coarse-to-fine estimate on the frames as given.
+PairResult estimate_once(const PreparedFrame& reference, const PreparedFrame& current, const Eigen::Isometry3d& initial,
+                         const TrackerOptions& options) {
   const auto t0 = Clock::now();
   const double cpu0 = process_cpu_seconds();
   const Method method = parse_method(options.method);
@@ -402,6 +406,40 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   result.seconds = seconds_since(t0);
   result.cpu_seconds = process_cpu_seconds() - cpu0;
   return result;
+}
+
+}  // namespace
+
+PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
+                           const Eigen::Isometry3d& initial, const TrackerOptions& options) {
+  const double interval = current.pyramid.timestamp - reference.pyramid.timestamp;
+  const double delay_1 = reference.pyramid.depth_delay, delay_2 = current.pyramid.depth_delay;
+  if (options.retime_depth != 1 || !(interval > 0.0) || (delay_1 == 0.0 && delay_2 == 0.0)) {
+    return estimate_once(reference, current, initial, options);
+  }
+  // The pair estimated on the frames as given; its motion, taken as constant velocity over
+  // the pair, moves both depth images to their colour images' times (depth_retiming.h); the
+  // pair is estimated again on them, from the first estimate.
+  PairResult first = estimate_once(reference, current, initial, options);
+  if (!first.valid) return first;
+  const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_seconds();
+  const auto retimed = [&](const PreparedFrame& f, double delay) {
+    PreparedFrame r;
+    r.pyramid = retimed_pyramid(f.pyramid, pose_after_delay(first.T_21, interval, delay));
+    r.statistics = f.statistics;
+    r.has_statistics = f.has_statistics;
+    return r;
+  };
+  const PreparedFrame reference_retimed = retimed(reference, delay_1), current_retimed = retimed(current, delay_2);
+  const double retime_seconds = seconds_since(t0), retime_cpu = process_cpu_seconds() - cpu0;
+  PairResult second = estimate_once(reference_retimed, current_retimed, first.T_21, options);
+  second.iterations += first.iterations;
+  second.seconds += first.seconds + retime_seconds;
+  second.cpu_seconds += first.cpu_seconds + retime_cpu;
+  second.profile.merge(first.profile);
+  second.profile.add("retime_depth", retime_seconds);
+  return second;
 }
 
 std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const TrackerOptions& options) const {

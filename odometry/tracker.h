@@ -81,6 +81,13 @@ struct TrackerOptions {
   // more iterations (0: off; no effect with forward Jacobians). On by default: it took joint's worst RPE ratio to
   // single from 1.37 to 1.09 over the nine sequences (docs/odometry.md, "exact finish").
   int exact_finish_iterations = 20;
+  // Unsynchronized colour and depth (the frames' depth.txt times differ from their rgb.txt
+  // times): 1 estimates the pair, moves both depth images to their colour images' times with
+  // that estimate as constant velocity (depth_retiming.h) and estimates again from it; 0 (the
+  // default) takes each depth image as taken with its colour image. No effect on synchronized
+  // frames. Off by default: held out it ties joint's worst ratio at 3-5x its CPU per pair
+  // (docs/results/defaults.md).
+  int retime_depth = 0;
   // single / depth optimize one objective and build only its model per iteration; true
   // also evaluates the other one (weights estimated at the level's final x) for the logs,
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.

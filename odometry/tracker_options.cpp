@@ -48,6 +48,9 @@ void validate(const TrackerOptions& options) {
     throw Error("exact finish iterations must be >= 0 (0: off), got " +
                 std::to_string(options.exact_finish_iterations));
   }
+  if (options.retime_depth != 0 && options.retime_depth != 1) {
+    throw Error("retime depth must be 0 or 1, got " + std::to_string(options.retime_depth));
+  }
   if (!(options.problem.min_valid_fraction >= 0.0 && options.problem.min_valid_fraction <= 1.0)) {
     throw Error("min valid fraction must be in [0, 1], got " + std::to_string(options.problem.min_valid_fraction));
   }

@@ -163,6 +163,7 @@ RgbdImage load_rgbd_image(const AssociatedFrame& frame, int expected_width, int 
   im.width = colour.width;
   im.height = colour.height;
   im.timestamp = frame.rgb_time;
+  im.depth_delay = frame.depth_time - frame.rgb_time;
   const std::size_t n = static_cast<std::size_t>(im.width) * im.height;
   im.intensity.resize(n);
   im.depth.resize(n);

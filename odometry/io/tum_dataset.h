@@ -70,7 +70,8 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
 // gray PNGs taken as is) and depth in metres (PNG value / 5000, 0 = missing).
 struct RgbdImage {
   int width = 0, height = 0;
-  double timestamp = 0.0;  // rgb time
+  double timestamp = 0.0;    // rgb time
+  double depth_delay = 0.0;  // depth time - rgb time [s] (unsynchronized sensors)
   std::vector<float> intensity;
   std::vector<float> depth;
 };
