@@ -36,6 +36,9 @@ namespace data = bivo::odometry;
 #include "odometry/sequence_tracking.h"
 #define BIVO_BENCH_STREAM 1
 #endif
+#if __has_include("odometry/depth_retiming.h")
+#define BIVO_BENCH_RETIME 1  // TrackerOptions::retime_depth
+#endif
 #if __has_include("odometry/kernels/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
 #define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads, (o).finest_level)
@@ -112,8 +115,9 @@ void report_pairs(benchmark::State& state, const std::vector<double>& per_pair, 
 
 // fixed_eps > 0: method bounded with that per-unit-weight bound instead of the pi(D) rule.
 // extrapolation: TrackerOptions::step_extrapolation (1 = off; -1, the default: the method's own).
+// retime: TrackerOptions::retime_depth (fr1's depth is unsynchronized: every pair retimes).
 void rpy_pairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps, bool wall,
-               double extrapolation) {
+               double extrapolation, int retime = 0) {
   const Frames* f = frames_or_skip(state);
   if (!f) return;
   TrackerOptions o;
@@ -121,6 +125,14 @@ void rpy_pairs(benchmark::State& state, const std::string& method, int finest, i
   o.finest_level = finest;
   o.step_extrapolation = extrapolation;
   if (fixed_eps > 0.0) o.policy.eps = fixed_eps;
+#ifdef BIVO_BENCH_RETIME
+  o.retime_depth = retime;
+#else
+  if (retime != 0) {
+    state.SkipWithError("no depth retiming before it existed");
+    return;
+  }
+#endif
 #ifdef BIVO_BENCH_THREADS
   o.problem.threads = threads;
 #else
@@ -224,6 +236,12 @@ void register_cases() {
           ->Unit(benchmark::kMillisecond)
           ->Iterations(1);
     }
+    // joint on depth moved to the colour images' times (--retime-depth 1; off by default).
+    benchmark::RegisterBenchmark(
+        ("RpyPairs/joint_retimed" + at).c_str(),
+        [finest](benchmark::State& state) { rpy_pairs(state, "joint", finest, 1, 0.0, false, -1.0, 1); })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
     // eps = 1e-5 lies below min F_D per unit weight on most pairs: the exact step is
     // infeasible (multiplier inf) on ~2/3 of the steps and minimizes F_D alone there.
     benchmark::RegisterBenchmark(("RpyPairs/bounded_active" + at).c_str(), BM_RpyPairs, std::string("bounded"), finest,
