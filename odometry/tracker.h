@@ -85,7 +85,7 @@ struct TrackerOptions {
   // times): 1 estimates the pair, moves both depth images to their colour images' times with
   // that estimate as constant velocity (depth_retiming.h) and estimates again from it; 0 (the
   // default) takes each depth image as taken with its colour image. No effect on synchronized
-  // frames. Off by default: held out it ties joint's worst ratio at 3-5x its CPU per pair
+  // frames. Off by default: held out it ties joint's worst ratio at 2.5-4x its CPU per pair
   // (docs/results/defaults.md).
   int retime_depth = 0;
   // single / depth optimize one objective and build only its model per iteration; true
