@@ -62,6 +62,12 @@ void check_pareto_study_options(const ParetoStudyOptions& o) {
     throw Error("pareto: points per sweep must be in 2..1000, got " + std::to_string(o.points));
   }
   if (!o.backend.empty()) solvers::backend_info(o.backend);  // throws listing the valid names
+  // The fronts are swept on one problem of the frames as given: a method estimated on retimed
+  // depth would be scored on other data than it used.
+  if (o.tracker.retime_depth != 0) {
+    throw Error("pareto: --retime-depth " + std::to_string(o.tracker.retime_depth) +
+                ": the fronts use the depth images as taken; sweep without it");
+  }
 }
 
 ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {

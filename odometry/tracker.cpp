@@ -434,6 +434,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   const PreparedFrame reference_retimed = retimed(reference, delay_1), current_retimed = retimed(current, delay_2);
   const double retime_seconds = seconds_since(t0), retime_cpu = process_cpu_seconds() - cpu0;
   PairResult second = estimate_once(reference_retimed, current_retimed, first.T_21, options);
+  if (!second.valid) {  // the first estimate stands, not the prior the second fell back to
+    first.note += std::string(first.note.empty() ? "" : "; ") + "on retimed depth: " + second.note;
+    return first;
+  }
   second.iterations += first.iterations;
   second.seconds += first.seconds + retime_seconds;
   second.cpu_seconds += first.cpu_seconds + retime_cpu;

@@ -252,7 +252,8 @@ struct FramePair {
   std::optional<Eigen::Isometry3d> groundtruth_T21;
 
   // The odometry problem at one level with the options' problem settings (depth_first is
-  // set for method "depth"). The problem refers into this FramePair.
+  // set for method "depth"), on the frames as loaded (TrackerOptions::retime_depth is not
+  // applied: it needs the pair's estimate). The problem refers into this FramePair.
   std::unique_ptr<RgbdOdometryProblem> problem(int level, const TrackerOptions& options) const;
   // lambda of a weighted-sum method / eps_bar of bounded, as the tracker would choose them.
   double lambda(const TrackerOptions& options) const;

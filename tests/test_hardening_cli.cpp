@@ -284,6 +284,16 @@ TEST_F(HardeningCli, ParetoPair2147483647AndEvery2147483647) {
   EXPECT_FALSE(fs::exists(dir_ / "e" / "pareto_pair2147483647.json"));
 }
 
+// A front swept on the depth as taken cannot score a method run on retimed depth.
+TEST_F(HardeningCli, ParetoRefusesRetimedDepth) {
+  for (const char* value : {"1", "2"}) {
+    const BivoRun r =
+        bivo("pareto " + q(sequence_) + " --pair 0 --no-plots --retime-depth " + value + " --output " + q(dir_ / "r"));
+    expect_clear_error(r, "--retime-depth");
+    EXPECT_FALSE(fs::exists(dir_ / "r"));
+  }
+}
+
 TEST_F(HardeningCli, ConicOnAFolder) { expect_clear_error(bivo("conic " + q(dir_)), "is a folder"); }
 
 // Item 14: one timestamp with two poses was accepted silently.
