@@ -63,10 +63,16 @@ void check_pareto_study_options(const ParetoStudyOptions& o) {
   }
   if (!o.backend.empty()) solvers::backend_info(o.backend);  // throws listing the valid names
   // The fronts are swept on one problem of the frames as given: a method estimated on retimed
-  // depth would be scored on other data than it used.
+  // depth or global-shutter colour would be scored on other data than it used.
   if (o.tracker.retime_depth != 0) {
     throw Error("pareto: --retime-depth " + std::to_string(o.tracker.retime_depth) +
                 ": the fronts use the depth images as taken; sweep without it");
+  }
+  if (o.tracker.readout_time != 0.0) {
+    std::ostringstream value;
+    value << o.tracker.readout_time;
+    throw Error("pareto: --readout-time " + value.str() +
+                ": the fronts use the colour images as taken; sweep without it");
   }
 }
 

@@ -167,6 +167,10 @@ std::vector<TrackerOption> build_table() {
               "unsynchronized depth: re-estimate the pair on depth images moved to their colour images' times "
               "with the pair's first estimate (1), or take them as synchronized (0)",
               BIVO_FIELD(retime_depth)),
+      number("readout_time", "--readout-time", 0.0, 1.0,
+             "rolling-shutter readout of the colour images [s]: re-estimate the pair on colour images moved to "
+             "their timestamps (the middle row's) with the pair's first estimate (0: global shutter)",
+             BIVO_FIELD(readout_time)),
       other(T::kBoolean, "evaluate_unused_objective", "--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end",
             BIVO_FIELD(evaluate_unused_objective)),

@@ -11,8 +11,8 @@ namespace bivo::odometry {
 
 namespace se3 = solvers::se3;
 
-Eigen::Isometry3d pose_after_delay(const Eigen::Isometry3d& T_21, double interval, double delay) {
-  return se3::exp((delay / interval) * se3::log(T_21.inverse()));
+Eigen::Isometry3d pose_after_delay(const se3::Vector6d& velocity, double delay) {
+  return se3::exp(se3::Vector6d(-delay * velocity));
 }
 
 namespace {
@@ -66,21 +66,6 @@ ImageF retime_depth(const ImageF& depth, const io::Intrinsics& K, const Eigen::I
   }
   for (float& z : out.data) {
     if (z == kNone) z = 0.0f;
-  }
-  return out;
-}
-
-RgbdPyramid retimed_pyramid(const RgbdPyramid& pyramid, const Eigen::Isometry3d& colour_from_depth) {
-  RgbdPyramid out;
-  out.timestamp = pyramid.timestamp;
-  out.levels.resize(pyramid.levels.size());
-  for (std::size_t l = 0; l < pyramid.levels.size(); ++l) {
-    const RgbdLevel& in = pyramid.levels[l];
-    RgbdLevel& L = out.levels[l];
-    L.level = in.level;
-    L.K = in.K;
-    L.intensity = in.intensity;
-    L.depth = l == 0 ? retime_depth(in.depth, in.K, colour_from_depth) : downsample_depth(out.levels[l - 1].depth);
   }
   return out;
 }

@@ -7,13 +7,14 @@
 
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/rgbd_pyramid.h"
+#include "solvers/geometry/se3.h"
 
 namespace bivo::odometry {
 
-// The pose, in the colour camera's frame at time t, of the camera at time t + delay when the
-// camera moves by T_21 (q = T_21 p, frame 1 -> frame 2, as RgbdOdometryProblem) over `interval`
-// seconds at constant velocity: exp((delay / interval) log(T_21^-1)).
-Eigen::Isometry3d pose_after_delay(const Eigen::Isometry3d& T_21, double interval, double delay);
+// The pose, in the camera's frame at time t, of the camera at t + delay when it moves at
+// `velocity` about t, log(T_21) per second (q = T_21 p, frame 1 -> frame 2, as
+// RgbdOdometryProblem): exp(-delay velocity) (over a pair: exp((delay / interval) log(T_21^-1))).
+Eigen::Isometry3d pose_after_delay(const solvers::se3::Vector6d& velocity, double delay);
 
 // `depth` (metres, 0 = missing), taken from the pose `colour_from_depth` in the colour camera's
 // frame, as the colour camera sees it: every valid pixel back-projected, moved and projected to
@@ -21,11 +22,5 @@ Eigen::Isometry3d pose_after_delay(const Eigen::Isometry3d& T_21, double interva
 // nearest surface kept where several land; pixels nothing lands on are 0. A forward splat: a
 // backward search per pixel was 7x slower for no accuracy on the fast renderings.
 ImageF retime_depth(const ImageF& depth, const io::Intrinsics& K, const Eigen::Isometry3d& colour_from_depth);
-
-// A copy of `pyramid` whose full-resolution depth is retimed (above) and whose coarser depth
-// levels are downsampled from it (build_pyramid's rule); intensities are copied. Retiming the
-// full resolution matters: at 320x240 the fast renderings' worst joint pair stayed above 2 deg.
-// The copy's levels interleave [I, D] on demand (RgbdLevel).
-RgbdPyramid retimed_pyramid(const RgbdPyramid& pyramid, const Eigen::Isometry3d& colour_from_depth);
 
 }  // namespace bivo::odometry

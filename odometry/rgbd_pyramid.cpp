@@ -251,4 +251,23 @@ void central_gradients(const ImageF& image, ImageF& gx, ImageF& gy) {
   }
 }
 
+RgbdPyramid pyramid_from_full_resolution(const RgbdPyramid& pyramid, ImageF intensity, ImageF depth) {
+  RgbdPyramid out;
+  out.timestamp = pyramid.timestamp;
+  out.levels.resize(pyramid.levels.size());
+  for (std::size_t l = 0; l < pyramid.levels.size(); ++l) {
+    RgbdLevel& L = out.levels[l];
+    L.level = pyramid.levels[l].level;
+    L.K = pyramid.levels[l].K;
+    if (l == 0) {
+      L.intensity = std::move(intensity);
+      L.depth = std::move(depth);
+    } else {
+      L.intensity = downsample_intensity(out.levels[l - 1].intensity);
+      L.depth = downsample_depth(out.levels[l - 1].depth);
+    }
+  }
+  return out;
+}
+
 }  // namespace bivo::odometry

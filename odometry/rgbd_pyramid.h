@@ -50,6 +50,11 @@ struct RgbdPyramid {
 ImageF downsample_intensity(const ImageF& fine);
 ImageF downsample_depth(const ImageF& fine);
 
+// A copy of `pyramid` whose full-resolution images are replaced by `intensity` and `depth`
+// (same size), the coarser levels downsampled from them (build_pyramid's rule); its levels
+// interleave [I, D] on demand (RgbdLevel).
+RgbdPyramid pyramid_from_full_resolution(const RgbdPyramid& pyramid, ImageF intensity, ImageF depth);
+
 // Throws bivo::Error when levels < 1 or the coarsest level would be smaller than 8x8. Rows
 // are split over `threads` threads (the result does not depend on it). The image's arrays
 // become level 0 (pass an rvalue to move them instead of copying). Levels finer than

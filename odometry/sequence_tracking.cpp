@@ -141,6 +141,11 @@ TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& opt
     pair.load_seconds = load_seconds;
     if (pair.valid) {
       velocity = pair.T_21;
+      const double t1 = reference.pyramid.timestamp, t2 = current.pyramid.timestamp;
+      if (t2 > t1) {
+        current.arrival_velocity = solvers::se3::log(pair.T_21) / (t2 - t1);
+        current.arrival_time = 0.5 * (t1 + t2);
+      }
     } else {
       ++out.invalid_pairs;
     }
@@ -162,6 +167,33 @@ TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& opt
     if (load_error) std::rethrow_exception(load_error);
   }
   return out;
+}
+
+FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
+                          const TrackerOptions& options) {
+  const io::TumSequence seq = io::open_tum_sequence(directory, sequence_options(options));
+  const int n = static_cast<int>(seq.frames.size());
+  for (int i : {reference_index, current_index}) {
+    if (i < 0 || i >= n) {
+      throw Error("frame index " + std::to_string(i) + " outside 0.." + std::to_string(n - 1) + " of '" + directory +
+                  "'");
+    }
+  }
+  FramePair p;
+  p.sequence = seq.name;
+  p.reference_frame = seq.frames[reference_index];
+  p.current_frame = seq.frames[current_index];
+  io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
+  io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
+  const io::Undistortion undistortion(seq.intrinsics, seq.distortion, a.width, a.height);
+  undistortion.apply(a);
+  undistortion.apply(b);
+  p.reference = prepare_frame(a, seq.intrinsics, options.levels, options.problem.threads);
+  p.current = prepare_frame(b, seq.intrinsics, options.levels, options.problem.threads);
+  if (seq.groundtruth) {
+    p.groundtruth_T21 = io::groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
+  }
+  return p;
 }
 
 }  // namespace bivo::odometry

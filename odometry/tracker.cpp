@@ -13,10 +13,10 @@
 #include <thread>
 #include <utility>
 
-#include "odometry/depth_retiming.h"
 #include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "odometry/robust_level.h"
+#include "odometry/rolling_shutter.h"
 #include "solvers/backend_registry.h"
 #include "solvers/error.h"
 #include "solvers/geometry/se3.h"
@@ -413,36 +413,43 @@ PairResult estimate_once(const PreparedFrame& reference, const PreparedFrame& cu
 PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
                            const Eigen::Isometry3d& initial, const TrackerOptions& options) {
   const double interval = current.pyramid.timestamp - reference.pyramid.timestamp;
-  const double delay_1 = reference.pyramid.depth_delay, delay_2 = current.pyramid.depth_delay;
-  if (options.retime_depth != 1 || !(interval > 0.0) || (delay_1 == 0.0 && delay_2 == 0.0)) {
-    return estimate_once(reference, current, initial, options);
-  }
-  // The pair estimated on the frames as given; its motion, taken as constant velocity over
-  // the pair, moves both depth images to their colour images' times (depth_retiming.h); the
-  // pair is estimated again on them, from the first estimate.
+  // A rolling shutter retimes unsynchronized depth too (TrackerOptions::readout_time).
+  const bool unroll = options.readout_time > 0.0;
+  const bool retime = (options.retime_depth == 1 || unroll) &&
+                      (reference.pyramid.depth_delay != 0.0 || current.pyramid.depth_delay != 0.0);
+  if (!(interval > 0.0) || (!retime && !unroll)) return estimate_once(reference, current, initial, options);
+  // Estimated on the frames as given, then on their images moved to their timestamps from there.
   PairResult first = estimate_once(reference, current, initial, options);
   if (!first.valid) return first;
   const auto t0 = Clock::now();
   const double cpu0 = process_cpu_seconds();
-  const auto retimed = [&](const PreparedFrame& f, double delay) {
+  // The velocity at each frame's time: linear through the pair before (when known) and this one.
+  const double middle = reference.pyramid.timestamp + 0.5 * interval;
+  const se3::Vector6d velocity = se3::log(first.T_21) / interval;
+  const bool before = reference.arrival_velocity && reference.arrival_time < middle;
+  const se3::Vector6d acceleration =
+      before ? se3::Vector6d((velocity - *reference.arrival_velocity) / (middle - reference.arrival_time))
+             : se3::Vector6d::Zero();
+  const auto corrected = [&](const PreparedFrame& f) {
     PreparedFrame r;
-    r.pyramid = retimed_pyramid(f.pyramid, pose_after_delay(first.T_21, interval, delay));
+    const se3::Vector6d at_frame = velocity + (f.pyramid.timestamp - middle) * acceleration;
+    r.pyramid = pyramid_at_timestamp(f.pyramid, at_frame, retime, options.readout_time);
     r.statistics = f.statistics;
     r.has_statistics = f.has_statistics;
     return r;
   };
-  const PreparedFrame reference_retimed = retimed(reference, delay_1), current_retimed = retimed(current, delay_2);
-  const double retime_seconds = seconds_since(t0), retime_cpu = process_cpu_seconds() - cpu0;
-  PairResult second = estimate_once(reference_retimed, current_retimed, first.T_21, options);
+  const PreparedFrame reference_corrected = corrected(reference), current_corrected = corrected(current);
+  const double correct_seconds = seconds_since(t0), correct_cpu = process_cpu_seconds() - cpu0;
+  PairResult second = estimate_once(reference_corrected, current_corrected, first.T_21, options);
   if (!second.valid) {  // the first estimate stands, not the prior the second fell back to
-    first.note += std::string(first.note.empty() ? "" : "; ") + "on retimed depth: " + second.note;
+    first.note += std::string(first.note.empty() ? "" : "; ") + "on corrected frames: " + second.note;
     return first;
   }
   second.iterations += first.iterations;
-  second.seconds += first.seconds + retime_seconds;
-  second.cpu_seconds += first.cpu_seconds + retime_cpu;
+  second.seconds += first.seconds + correct_seconds;
+  second.cpu_seconds += first.cpu_seconds + correct_cpu;
   second.profile.merge(first.profile);
-  second.profile.add("retime_depth", retime_seconds);
+  second.profile.add("correct_frames", correct_seconds);
   return second;
 }
 
@@ -465,33 +472,6 @@ double FramePair::lambda(const TrackerOptions& options) const {
 double FramePair::epsilon_per_weight(const TrackerOptions& options) const {
   return bounded_epsilon_per_weight(policy_statistics(Method::kBounded, reference, options.problem.threads),
                                     options.policy);
-}
-
-FramePair load_frame_pair(const std::string& directory, int reference_index, int current_index,
-                          const TrackerOptions& options) {
-  const io::TumSequence seq = io::open_tum_sequence(directory, sequence_options(options));
-  const int n = static_cast<int>(seq.frames.size());
-  for (int i : {reference_index, current_index}) {
-    if (i < 0 || i >= n) {
-      throw Error("frame index " + std::to_string(i) + " outside 0.." + std::to_string(n - 1) + " of '" + directory +
-                  "'");
-    }
-  }
-  FramePair p;
-  p.sequence = seq.name;
-  p.reference_frame = seq.frames[reference_index];
-  p.current_frame = seq.frames[current_index];
-  io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
-  io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
-  const io::Undistortion undistortion(seq.intrinsics, seq.distortion, a.width, a.height);
-  undistortion.apply(a);
-  undistortion.apply(b);
-  p.reference = prepare_frame(a, seq.intrinsics, options.levels, options.problem.threads);
-  p.current = prepare_frame(b, seq.intrinsics, options.levels, options.problem.threads);
-  if (seq.groundtruth) {
-    p.groundtruth_T21 = io::groundtruth_motion(*seq.groundtruth, p.reference_frame.rgb_time, p.current_frame.rgb_time);
-  }
-  return p;
 }
 
 }  // namespace bivo::odometry

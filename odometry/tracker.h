@@ -36,6 +36,7 @@
 #include "odometry/odometry_methods.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/rgbd_pyramid.h"
+#include "solvers/geometry/se3.h"
 #include "solvers/profiling.h"
 
 namespace bivo::odometry {
@@ -82,12 +83,19 @@ struct TrackerOptions {
   // single from 1.37 to 1.09 over the nine sequences (docs/odometry.md, "exact finish").
   int exact_finish_iterations = 20;
   // Unsynchronized colour and depth (the frames' depth.txt times differ from their rgb.txt
-  // times): 1 estimates the pair, moves both depth images to their colour images' times with
-  // that estimate as constant velocity (depth_retiming.h) and estimates again from it; 0 (the
+  // times): 1 estimates the pair, moves both depth images to their colour images' times by the
+  // velocity there (PreparedFrame::arrival_velocity; depth_retiming.h) and estimates again; 0 (the
   // default) takes each depth image as taken with its colour image. No effect on synchronized
   // frames. Off by default: held out it ties joint's worst ratio at 2.5-4x its CPU per pair
   // (docs/results/defaults.md).
   int retime_depth = 0;
+  // Rolling shutter: the colour images' rows are read over this many seconds (the timestamp is
+  // the middle row's); > 0 estimates the pair, moves both colour images to their timestamps by
+  // the velocity there (PreparedFrame::arrival_velocity; rolling_shutter.h), unsynchronized depth there
+  // too (as retime_depth 1: colour moved beside depth left at its own time drew joint to 4.7 deg
+  // on a fast rendering's pair, 1.1 with both moved), and estimates again from it; 0 (the
+  // default): global-shutter images. A property of the sensor (the user's to give), not tuned.
+  double readout_time = 0.0;
   // single / depth optimize one objective and build only its model per iteration; true
   // also evaluates the other one (weights estimated at the level's final x) for the logs,
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.
@@ -228,6 +236,12 @@ struct PreparedFrame {
   // rule that reads them (reads_frame_statistics()) computes them itself when they are absent.
   FrameStatistics statistics;
   bool has_statistics = false;
+  // The pair that ended at this frame, once estimated (track_sequence sets it): its motion
+  // log(T_21) per second and its middle time. Retiming and the rolling-shutter model take the
+  // velocity at each frame's time as linear through it and the next pair's; without it, the
+  // next pair's alone (constant velocity left joint's 1-s RPE on the fast renderings 1.4-2.9x higher).
+  std::optional<solvers::se3::Vector6d> arrival_velocity;
+  double arrival_time = 0.0;
 };
 // with_statistics false: the frame statistics are left out (~0.3 ms per 640x480 frame) for
 // methods whose rule does not read them (all but weighted and bounded: reads_frame_statistics()).

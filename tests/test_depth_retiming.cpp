@@ -74,11 +74,12 @@ TEST(DepthRetiming, PlaneSeenFromTheColourCamera) {
 TEST(DepthRetiming, ConstantVelocityPose) {
   const Eigen::Isometry3d T_21 = camera2().inverse();
   const double interval = 1.0 / 30.0;
-  EXPECT_TRUE(pose_after_delay(T_21, interval, 0.0).isApprox(Eigen::Isometry3d::Identity(), 1e-12));
-  EXPECT_TRUE(pose_after_delay(T_21, interval, interval).isApprox(camera2(), 1e-12));
-  const Eigen::Isometry3d half = pose_after_delay(T_21, interval, 0.5 * interval);
+  const se3::Vector6d velocity = se3::log(T_21) / interval;
+  EXPECT_TRUE(pose_after_delay(velocity, 0.0).isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+  EXPECT_TRUE(pose_after_delay(velocity, interval).isApprox(camera2(), 1e-12));
+  const Eigen::Isometry3d half = pose_after_delay(velocity, 0.5 * interval);
   EXPECT_TRUE((half * half).isApprox(camera2(), 1e-12));
-  EXPECT_TRUE(pose_after_delay(T_21, interval, -0.25 * interval).isApprox(camera_at(-0.25), 1e-12));
+  EXPECT_TRUE(pose_after_delay(velocity, -0.25 * interval).isApprox(camera_at(-0.25), 1e-12));
 }
 
 // Colour at the start and end of the plane scene's motion, each depth image 0.4 of the motion

@@ -294,6 +294,13 @@ TEST_F(HardeningCli, ParetoRefusesRetimedDepth) {
   }
 }
 
+TEST_F(HardeningCli, ParetoRefusesRollingShutterCorrection) {
+  const BivoRun r =
+      bivo("pareto " + q(sequence_) + " --pair 0 --no-plots --readout-time 0.02 --output " + q(dir_ / "r"));
+  expect_clear_error(r, "--readout-time");
+  EXPECT_FALSE(fs::exists(dir_ / "r"));
+}
+
 TEST_F(HardeningCli, ConicOnAFolder) { expect_clear_error(bivo("conic " + q(dir_)), "is a folder"); }
 
 // Item 14: one timestamp with two poses was accepted silently.

@@ -13,8 +13,10 @@ namespace bivo::testing {
 
 inline const odometry::io::Intrinsics kK{260.0, 258.0, 159.5, 119.5};
 
-// The plane n.P = 1.6 m (world = camera 1), a sum of sines on it, seen by a camera at T_wc.
-inline odometry::io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int width = 320, int height = 240) {
+// The plane n.P = 1.6 m (world = camera 1), a sum of sines on it, each row v seen by a camera at
+// pose_of_row(v) (a rolling shutter; one pose for all rows: a global shutter).
+template <class PoseOfRow>
+odometry::io::RgbdImage render_plane_rows(const PoseOfRow& pose_of_row, int width = 320, int height = 240) {
   const Eigen::Vector3d n = Eigen::Vector3d(0.15, -0.1, 1.0).normalized();
   const double d = 1.6;
   odometry::io::RgbdImage im;
@@ -22,9 +24,10 @@ inline odometry::io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int w
   im.height = height;
   im.intensity.resize(static_cast<std::size_t>(width) * height);
   im.depth.resize(im.intensity.size());
-  const Eigen::Matrix3d R = T_wc.linear();
-  const Eigen::Vector3d c = T_wc.translation();
   for (int v = 0; v < height; ++v) {
+    const Eigen::Isometry3d T_wc = pose_of_row(v);
+    const Eigen::Matrix3d R = T_wc.linear();
+    const Eigen::Vector3d c = T_wc.translation();
     for (int u = 0; u < width; ++u) {
       const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
       const Eigen::Vector3d ray_w = R * ray;
@@ -39,6 +42,11 @@ inline odometry::io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int w
     }
   }
   return im;
+}
+
+// The plane seen by a camera at T_wc (a global shutter).
+inline odometry::io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int width = 320, int height = 240) {
+  return render_plane_rows([&T_wc](int) { return T_wc; }, width, height);
 }
 
 inline Eigen::Isometry3d camera2() {
