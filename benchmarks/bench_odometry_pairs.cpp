@@ -39,6 +39,9 @@ namespace data = bivo::odometry;
 #if __has_include("odometry/depth_retiming.h")
 #define BIVO_BENCH_RETIME 1  // TrackerOptions::retime_depth
 #endif
+#if __has_include("odometry/rolling_shutter.h")
+#define BIVO_BENCH_ROLLING 1  // TrackerOptions::readout_time
+#endif
 #if __has_include("odometry/kernels/rgbd_kernels.h")
 #define BIVO_BENCH_THREADS 1
 #define BIVO_PREPARE(image, K, o) prepare_frame(image, K, (o).levels, (o).problem.threads, (o).finest_level)
@@ -116,8 +119,9 @@ void report_pairs(benchmark::State& state, const std::vector<double>& per_pair, 
 // fixed_eps > 0: method bounded with that per-unit-weight bound instead of the pi(D) rule.
 // extrapolation: TrackerOptions::step_extrapolation (1 = off; -1, the default: the method's own).
 // retime: TrackerOptions::retime_depth (fr1's depth is unsynchronized: every pair retimes).
+// readout: TrackerOptions::readout_time (every pair also retimes its depth).
 void rpy_pairs(benchmark::State& state, const std::string& method, int finest, int threads, double fixed_eps, bool wall,
-               double extrapolation, int retime = 0) {
+               double extrapolation, int retime = 0, double readout = 0.0) {
   const Frames* f = frames_or_skip(state);
   if (!f) return;
   TrackerOptions o;
@@ -130,6 +134,14 @@ void rpy_pairs(benchmark::State& state, const std::string& method, int finest, i
 #else
   if (retime != 0) {
     state.SkipWithError("no depth retiming before it existed");
+    return;
+  }
+#endif
+#ifdef BIVO_BENCH_ROLLING
+  o.readout_time = readout;
+#else
+  if (readout != 0.0) {
+    state.SkipWithError("no rolling-shutter model before it existed");
     return;
   }
 #endif
@@ -240,6 +252,12 @@ void register_cases() {
     benchmark::RegisterBenchmark(
         ("RpyPairs/joint_retimed" + at).c_str(),
         [finest](benchmark::State& state) { rpy_pairs(state, "joint", finest, 1, 0.0, false, -1.0, 1); })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+    // joint on colour images moved to their timestamps (--readout-time; off by default), 25 ms.
+    benchmark::RegisterBenchmark(
+        ("RpyPairs/joint_rolling" + at).c_str(),
+        [finest](benchmark::State& state) { rpy_pairs(state, "joint", finest, 1, 0.0, false, -1.0, 0, 0.025); })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
     // eps = 1e-5 lies below min F_D per unit weight on most pairs: the exact step is
