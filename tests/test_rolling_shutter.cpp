@@ -16,6 +16,7 @@ using namespace bivo;
 using namespace bivo::odometry;
 namespace se3 = bivo::solvers::se3;
 using bivo::testing::camera2;
+using bivo::testing::cm_or_deg;
 using bivo::testing::kK;
 using bivo::testing::render_plane;
 using bivo::testing::render_plane_rows;
@@ -93,8 +94,7 @@ TEST(RollingShutter, PairFoundWithTheReadoutTime) {
     o.readout_time = readout;
     const PairResult r = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), o);
     EXPECT_TRUE(r.valid);
-    const Eigen::Isometry3d E = T_21.inverse() * r.T_21;
-    return std::max(E.translation().norm() / 0.01, se3::rotation_angle(E) * 180.0 / M_PI);  // cm or deg
+    return cm_or_deg(r.T_21, T_21);
   };
   for (const char* method : {"single", "joint"}) {
     const double given = error_of(method, kReadout), ignored = error_of(method, 0.0);
@@ -126,8 +126,7 @@ TEST(RollingShutter, AcceleratingPairWithThePairBefore) {
     o.readout_time = kReadout;
     const PairResult r = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), o);
     EXPECT_TRUE(r.valid);
-    const Eigen::Isometry3d E = T_21.inverse() * r.T_21;
-    return std::max(E.translation().norm() / 0.01, se3::rotation_angle(E) * 180.0 / M_PI);  // cm or deg
+    return cm_or_deg(r.T_21, T_21);
   };
   const double constant = error();
   reference.arrival_velocity = se3::log(camera_at(phi(-1.0) - phi(0.0))) / kInterval;  // the pair before, exact

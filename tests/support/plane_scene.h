@@ -1,6 +1,7 @@
 #pragma once
 // A procedural RGB-D pair for the odometry tests: a slanted plane (n.P = 1.6 m) carrying a sum
 // of sines, with holes in the depth, seen from two poses; needs no data files.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -79,5 +80,11 @@ inline Eigen::VectorXd near_truth() {
 }
 
 inline double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / b.norm(); }
+
+// The larger of an estimate's translation error in cm and its rotation error in degrees.
+inline double cm_or_deg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  const Eigen::Isometry3d E = truth.inverse() * estimate;
+  return std::max(E.translation().norm() / 0.01, solvers::se3::rotation_angle(E) * 180.0 / M_PI);
+}
 
 }  // namespace bivo::testing
