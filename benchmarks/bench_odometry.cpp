@@ -2,7 +2,8 @@
 // (fr1/desk frames 0 -> 1, 4 pyramid levels, identity start), the building blocks (frame
 // preparation, one level-0 linearization and evaluation per instruction set and thread
 // count), a warm-started 32-point Pareto sweep against one solve of the same pair, and the
-// memory stream rate that bounds the per-pixel passes from below (docs/odometry.md "Speed").
+// memory stream rate that bounds the per-pixel passes from below (docs/odometry.md "Speed"),
+// and a frame's images moved to its timestamp (--retime-depth, --readout-time).
 // Per-method figures on fr1/rpy sequences: bench_odometry_pairs.cpp.
 #include <chrono>
 #include <filesystem>
@@ -13,6 +14,9 @@
 #include <benchmark/benchmark.h>
 
 #include "odometry/reference_terms.h"
+#if __has_include("odometry/rolling_shutter.h")
+#include "odometry/rolling_shutter.h"
+#endif
 #include "odometry/tracker.h"
 #include "solvers/geometry/se3.h"
 #include "solvers/pareto.h"
@@ -74,6 +78,27 @@ void BM_OdometryPrepareFrame(benchmark::State& state) {
   const bool statistics = state.range(1) != 0;  // weighted and bounded read them
   for (auto _ : state) benchmark::DoNotOptimize(prepare_frame(image, seq.intrinsics, 4, threads, 0, statistics));
 }
+
+#if __has_include("odometry/rolling_shutter.h")
+// One frame's full-resolution images moved to its timestamp (a pair's correction does two):
+// depth retimed (retime = 1) and/or colour from a 25 ms rolling shutter (rolling = 1), at a
+// rotation of 6 deg and 4 cm per 33 ms frame (fr1/rpy's fastest pairs).
+void BM_OdometryFrameAtTimestamp(benchmark::State& state) {
+  BIVO_NEED_PAIR(pair);
+  const bool retime = state.range(0) != 0;
+  const double readout = state.range(1) != 0 ? 0.025 : 0.0;
+  bivo::solvers::se3::Vector6d xi;
+  xi << 0.03, -0.02, 0.02, 0.06, 0.08, 0.04;  // log(T_21): |w| = 0.108 rad, |v| = 4.1 cm
+  const bivo::solvers::se3::Vector6d velocity = xi * 30.0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(pyramid_at_timestamp(pair->reference.pyramid, velocity, retime, readout));
+  }
+}
+BENCHMARK(BM_OdometryFrameAtTimestamp)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"retime", "rolling"})
+    ->Unit(benchmark::kMillisecond);
+#endif
 
 // Undistorting one loaded fr1 frame with its sequence's map (part of loading, not of a pair).
 void BM_OdometryUndistortFrame(benchmark::State& state) {
