@@ -24,20 +24,25 @@ ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, co
   }
   const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
   const float cx = static_cast<float>(K.cx), cy = static_cast<float>(K.cy);
-  const float fallback = static_cast<float>(median(depth, true));
+  float fallback = -1.0f;  // the median depth, once a row starts without depth
   ImageF out = intensity;
   for (int v = 0; v < h; ++v) {
     const float ray_y = (static_cast<float>(v) - cy) / fy;
-    float z_last = fallback;
+    float z_last = 0.0f;
     for (int u = 0; u < w; ++u) {
       const float d = depth.at(u, v);
-      if (d > 0.0f) z_last = d;
+      if (d > 0.0f) {
+        z_last = d;
+      } else if (z_last == 0.0f) {
+        if (fallback < 0.0f) fallback = static_cast<float>(median(depth, true));
+        z_last = fallback;
+      }
       if (!(z_last > 0.0f)) continue;
       const Eigen::Vector3f P(z_last * (static_cast<float>(u) - cx) / fx, z_last * ray_y, z_last);
       float x = static_cast<float>(u), y = static_cast<float>(v);
       bool inside = true;
       for (int pass = 0; pass < 2 && inside; ++pass) {
-        const int row = std::clamp(static_cast<int>(std::lround(y)), 0, h - 1);
+        const int row = pass == 0 ? v : std::min(static_cast<int>(y + 0.5f), h - 1);  // y in [0, h - 1]
         const Eigen::Vector3f q = R[static_cast<std::size_t>(row)] * P + t[static_cast<std::size_t>(row)];
         inside = q.z() > 0.0f;
         if (!inside) break;
