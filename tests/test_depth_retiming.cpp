@@ -16,14 +16,12 @@ using namespace bivo;
 using namespace bivo::odometry;
 namespace se3 = bivo::solvers::se3;
 using bivo::testing::camera2;
+using bivo::testing::camera_at;
 using bivo::testing::cm_or_deg;
 using bivo::testing::kK;
 using bivo::testing::render_plane;
 
 namespace {
-
-// The camera at fraction s of the plane scene's motion (constant velocity from identity to camera2()).
-Eigen::Isometry3d camera_at(double s) { return se3::exp(s * se3::log(camera2())); }
 
 ImageF depth_of(const io::RgbdImage& im) {
   ImageF d;

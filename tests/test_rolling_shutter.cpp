@@ -16,6 +16,7 @@ using namespace bivo;
 using namespace bivo::odometry;
 namespace se3 = bivo::solvers::se3;
 using bivo::testing::camera2;
+using bivo::testing::camera_at;
 using bivo::testing::cm_or_deg;
 using bivo::testing::kK;
 using bivo::testing::render_plane;
@@ -26,8 +27,6 @@ namespace {
 constexpr double kInterval = 1.0 / 30.0;
 constexpr double kReadout = 0.9 * kInterval;  // rows read over 0.9 of the scene's motion
 
-// The camera at fraction s of the plane scene's motion (constant velocity from identity to camera2()).
-Eigen::Isometry3d camera_at(double s) { return se3::exp(s * se3::log(camera2())); }
 // Its velocity, log(T_21) per second.
 const se3::Vector6d kVelocity = se3::log(camera2().inverse()) / kInterval;
 

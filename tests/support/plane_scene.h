@@ -56,6 +56,9 @@ inline Eigen::Isometry3d camera2() {
   return solvers::se3::exp(xi);
 }
 
+// The camera at fraction s of the scene's motion (constant velocity from identity to camera2()).
+inline Eigen::Isometry3d camera_at(double s) { return solvers::se3::exp(s * solvers::se3::log(camera2())); }
+
 struct Scene {
   odometry::PreparedFrame reference, current;
   Eigen::Isometry3d T_21;  // camera 1 -> camera 2 coordinates
