@@ -86,7 +86,7 @@ struct TrackerOptions {
   // times): 1 estimates the pair, moves both depth images to their colour images' times by the
   // velocity there (PreparedFrame::arrival_velocity; depth_retiming.h) and estimates again; 0 (the
   // default) takes each depth image as taken with its colour image. No effect on synchronized
-  // frames. Off by default: held out it ties joint's worst ratio at 2.5-4x its CPU per pair
+  // frames. Off by default: held out it ties joint's worst ratio at 2.2-2.9x its CPU per pair
   // (docs/results/defaults.md).
   int retime_depth = 0;
   // Rolling shutter: the colour images' rows are read over this many seconds (the timestamp is
