@@ -53,7 +53,7 @@ Difference difference(const ImageF& a, const ImageF& b) {
 
 }  // namespace
 
-// The plane seen from a camera 2.7 cm / 1.6 deg away, moved to the colour camera at the
+// The plane seen from a camera 3.1 cm / 1.4 deg away, moved to the colour camera at the
 // origin, is the plane as the colour camera sees it.
 TEST(DepthRetiming, PlaneSeenFromTheColourCamera) {
   const Eigen::Isometry3d depth_pose = camera_at(1.5);

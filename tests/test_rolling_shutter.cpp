@@ -65,7 +65,7 @@ TEST(RollingShutter, RowTimes) {
   EXPECT_NEAR(row_time(239, 480, 0.024) + row_time(240, 480, 0.024), 0.0, 1e-15);
 }
 
-// The image read while the camera moved 0.9 of the scene's 2.7 cm / 1.6 deg, moved to its
+// The image read while the camera moved 0.9 of the scene's 2.1 cm / 0.96 deg, moved to its
 // timestamp, is the plane as a global shutter sees it then.
 TEST(RollingShutter, PlaneSeenByAGlobalShutter) {
   const io::RgbdImage rolling = rolling_frame(1.0);
