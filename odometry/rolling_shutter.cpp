@@ -68,7 +68,9 @@ RgbdPyramid pyramid_at_timestamp(const RgbdPyramid& pyramid, const solvers::se3:
       retime ? retime_depth(full.depth, full.K, pose_after_delay(velocity, pyramid.depth_delay)) : full.depth;
   ImageF intensity =
       readout > 0.0 ? global_shutter_intensity(full.intensity, depth, full.K, velocity, readout) : full.intensity;
-  return pyramid_from_full_resolution(pyramid, std::move(intensity), std::move(depth));
+  RgbdPyramid out = pyramid_from_full_resolution(pyramid, std::move(intensity), std::move(depth));
+  out.depth_delay = retime ? 0.0 : pyramid.depth_delay;  // retimed depth is taken at the timestamp
+  return out;
 }
 
 }  // namespace bivo::odometry

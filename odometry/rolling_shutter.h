@@ -25,7 +25,8 @@ ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, co
 
 // A copy of `pyramid` whose full-resolution images are moved to its timestamp by the camera's
 // velocity there: depth by its delay (retime_depth) when `retime`, colour
-// by its rows' times when readout > 0 (with the depth so moved); coarser levels downsampled.
+// by its rows' times when readout > 0 (with the depth so moved); coarser levels downsampled;
+// its depth_delay is 0 once retimed.
 // At full resolution: retiming at 320x240 kept the fast renderings' worst joint pair above 2 deg.
 RgbdPyramid pyramid_at_timestamp(const RgbdPyramid& pyramid, const solvers::se3::Vector6d& velocity, bool retime,
                                  double readout);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry/rolling_shutter.h"
+#include "odometry/synth/defects.h"
 #include "odometry/tracker.h"
 #include "solvers/error.h"
 #include "tests/support/plane_scene.h"
@@ -63,6 +64,11 @@ TEST(RollingShutter, RowTimes) {
   EXPECT_DOUBLE_EQ(row_time(0, 480, 0.024), -0.024 * 479.0 / 960.0);
   EXPECT_DOUBLE_EQ(row_time(479, 480, 0.024), 0.024 * 479.0 / 960.0);
   EXPECT_NEAR(row_time(239, 480, 0.024) + row_time(240, 480, 0.024), 0.0, 1e-15);
+  // The renderer's own convention (bivo synth, no exposure): the same time for every row.
+  synth::SensorDefects d;
+  d.readout_s = 0.024;
+  for (int v : {0, 100, 239, 240, 479})
+    EXPECT_DOUBLE_EQ(synth::row_sample_times(d, v, 480).at(0), row_time(v, 480, 0.024)) << v;
 }
 
 // The image read while the camera moved 0.9 of the scene's 2.1 cm / 0.96 deg, moved to its
