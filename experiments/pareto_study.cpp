@@ -68,7 +68,7 @@ void check_pareto_study_options(const ParetoStudyOptions& o) {
     throw Error("pareto: --retime-depth " + std::to_string(o.tracker.retime_depth) +
                 ": the fronts use the depth images as taken; sweep without it");
   }
-  if (o.tracker.readout_time != 0.0) {
+  if (o.tracker.readout_time > 0.0) {  // -1, the sequence's: the fronts use the images as taken
     std::ostringstream value;
     value << o.tracker.readout_time;
     throw Error("pareto: --readout-time " + value.str() +

@@ -51,6 +51,7 @@ RunOutcome run_sequence(const RunRequest& request, const std::function<void(cons
   out.profile = track.profile;
   out.failures = track.invalid_pairs;
   out.load_seconds = track.load_seconds;
+  out.readout_time = track.readout_time;
 
   const auto median_and_mean = [&](double odometry::PairResult::*field, double& median, double& mean) {
     std::vector<double> ms;
@@ -111,7 +112,7 @@ std::vector<NamedPath> run_input_files(const RunRequest& request) {
   std::vector<NamedPath> inputs;
   for (const auto& f : seq.list_files) inputs.push_back({"sequence list", f});
   // The sequence's other TUM lists too (e.g. rgb.txt beside associations.txt): never outputs.
-  for (const char* list : {"rgb.txt", "depth.txt", "associations.txt", "groundtruth.txt"}) {
+  for (const char* list : {"rgb.txt", "depth.txt", "associations.txt", "groundtruth.txt", "scene.json"}) {
     inputs.push_back({"sequence list", (std::filesystem::path(request.sequence_dir) / list).string()});
   }
   for (const auto& f : seq.frames) {

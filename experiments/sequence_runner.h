@@ -49,6 +49,7 @@ struct RunOutcome {
   double median_ms = 0, mean_ms = 0;          // wall time per pair, loading excluded
   double median_cpu_ms = 0, mean_cpu_ms = 0;  // CPU time per pair (all threads), loading excluded
   double load_seconds = 0;                    // PNG decoding, all frames
+  double readout_time = 0;                    // rolling-shutter readout used [s] (given or stated)
 };
 
 // Throws bivo::Error on bad options (odometry::validate), a window outside the sequence

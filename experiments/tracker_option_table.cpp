@@ -60,6 +60,11 @@ TrackerOption method_own(TrackerOption o) {
   o.auto_value = -1.0;
   return o;
 }
+// The option also takes -1, "what the sequence states" (odometry::with_stated_readout).
+TrackerOption stated_by_sequence(TrackerOption o) {
+  o.auto_value = -1.0;
+  return o;
+}
 TrackerOption other(OptionType type, std::string key, std::string flag, std::string help,
                     json (*get)(const TrackerOptions&), void (*set)(TrackerOptions&, const json&)) {
   TrackerOption o = number(std::move(key), std::move(flag), 0.0, 0.0, std::move(help), get, set);
@@ -167,10 +172,11 @@ std::vector<TrackerOption> build_table() {
               "unsynchronized depth: re-estimate the pair on depth images moved to their colour images' times "
               "with the pair's first estimate (1), or take them as synchronized (0)",
               BIVO_FIELD(retime_depth)),
-      number("readout_time", "--readout-time", 0.0, 1.0,
-             "rolling-shutter readout of the colour images [s]: re-estimate the pair on colour images moved to "
-             "their timestamps (the middle row's) with the pair's first estimate (0: global shutter)",
-             BIVO_FIELD(readout_time)),
+      stated_by_sequence(number("readout_time", "--readout-time", 0.0, 1.0,
+                                "rolling-shutter readout of the colour images [s]: re-estimate the pair on colour "
+                                "images moved to their timestamps (the middle row's) with the pair's first estimate "
+                                "(0: global shutter; -1: the readout the sequence states in scene.json, else 0)",
+                                BIVO_FIELD(readout_time))),
       other(T::kBoolean, "evaluate_unused_objective", "--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end",
             BIVO_FIELD(evaluate_unused_objective)),

@@ -63,15 +63,22 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   return track_sequence(io::open_tum_sequence(directory, sequence_options(options)), options, on_pair);
 }
 
-TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& options,
+TrackerOptions with_stated_readout(TrackerOptions options, std::optional<double> stated) {
+  if (options.readout_time < 0.0) options.readout_time = stated.value_or(0.0);
+  return options;
+}
+
+TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& given,
                            const std::function<void(const PairResult&)>& on_pair) {
-  validate(options);
+  validate(given);
+  const TrackerOptions options = with_stated_readout(given, seq.readout_time);
   const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, seq.directory);
   const int first_index = window.begin, end = window.end;
 
   TrackResult out;
   out.sequence = seq.name;
   out.intrinsics = seq.intrinsics;
+  out.readout_time = options.readout_time;
 
   // Loading runs ahead on threads of its own (options.prefetch_frames, load_threads). A pair's
   // CPU time is the process's (this thread's and the per-pixel workers') less the loaders'.
@@ -183,6 +190,7 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   p.sequence = seq.name;
   p.reference_frame = seq.frames[reference_index];
   p.current_frame = seq.frames[current_index];
+  p.readout_time = seq.readout_time;
   io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
   io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
   const io::Undistortion undistortion(seq.intrinsics, seq.distortion, a.width, a.height);

@@ -93,9 +93,11 @@ struct TrackerOptions {
   // the middle row's); > 0 estimates the pair, moves both colour images to their timestamps by
   // the velocity there (PreparedFrame::arrival_velocity; rolling_shutter.h), unsynchronized depth there
   // too (as retime_depth 1: colour moved beside depth left at its own time drew joint to 4.7 deg
-  // on a fast rendering's pair, 1.1 with both moved), and estimates again from it; 0 (the
-  // default): global-shutter images. A property of the sensor (the user's to give), not tuned.
-  double readout_time = 0.0;
+  // on a fast rendering's pair, 1.1 with both moved), and estimates again from it; 0:
+  // global-shutter images. -1 (the default): the readout the sequence states (a bivo synth
+  // rendering's scene.json, io/sensor_description.h), else 0; a pair estimated alone (no
+  // sequence) takes -1 as 0. A property of the sensor, not tuned.
+  double readout_time = -1.0;
   // single / depth optimize one objective and build only its model per iteration; true
   // also evaluates the other one (weights estimated at the level's final x) for the logs,
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.
@@ -198,6 +200,7 @@ struct PairResult {
 struct TrackResult {
   std::string sequence;
   io::Intrinsics intrinsics;
+  double readout_time = 0.0;  // the rolling-shutter readout used (TrackerOptions::readout_time)
   io::Trajectory trajectory;  // one pose per frame, T_wc
   std::vector<PairResult> pairs;
   solvers::PhaseProfile profile;  // summed over pairs (plus the first frame's pyramid)
@@ -214,6 +217,8 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 
 // How the tracker opens a sequence: association window, intrinsics and distortion overrides.
 io::SequenceOptions sequence_options(const TrackerOptions& options);
+// The options with readout_time -1 replaced by the readout the sequence states (else 0).
+TrackerOptions with_stated_readout(TrackerOptions options, std::optional<double> stated);
 
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
@@ -264,6 +269,7 @@ struct FramePair {
   io::AssociatedFrame reference_frame, current_frame;
   PreparedFrame reference, current;
   std::optional<Eigen::Isometry3d> groundtruth_T21;
+  std::optional<double> readout_time;  // as the sequence states it (io::TumSequence)
 
   // The odometry problem at one level with the options' problem settings (depth_first is
   // set for method "depth"), on the frames as loaded (TrackerOptions::retime_depth is not

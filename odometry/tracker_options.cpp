@@ -51,8 +51,8 @@ void validate(const TrackerOptions& options) {
   if (options.retime_depth != 0 && options.retime_depth != 1) {
     throw Error("retime depth must be 0 or 1, got " + std::to_string(options.retime_depth));
   }
-  if (!(options.readout_time >= 0.0 && options.readout_time <= 1.0)) {
-    throw Error("readout time must be in [0, 1] s, got " + std::to_string(options.readout_time));
+  if (!(options.readout_time == -1.0 || (options.readout_time >= 0.0 && options.readout_time <= 1.0))) {
+    throw Error("readout time must be -1 (the sequence's) or in [0, 1] s, got " + std::to_string(options.readout_time));
   }
   if (!(options.problem.min_valid_fraction >= 0.0 && options.problem.min_valid_fraction <= 1.0)) {
     throw Error("min valid fraction must be in [0, 1], got " + std::to_string(options.problem.min_valid_fraction));

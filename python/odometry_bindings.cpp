@@ -195,7 +195,8 @@ void bind_odometry(py::module_& m) {
       .def(
           "estimate",
           [](const PyFramePair& p, const py::object& initial, const py::kwargs& kwargs) {
-            const TrackerOptions o = kwargs.empty() ? p.options : options_of(kwargs);
+            const TrackerOptions o =
+                with_stated_readout(kwargs.empty() ? p.options : options_of(kwargs), p.pair.readout_time);
             const Eigen::Isometry3d T0 = initial.is_none()
                                              ? Eigen::Isometry3d::Identity()
                                              : solvers::se3::from_ambient(vector_arg(initial, "initial", 7));
@@ -216,6 +217,7 @@ void bind_odometry(py::module_& m) {
         py::dict d;
         d["name"] = seq.name;
         d["directory"] = seq.directory;
+        d["readout_time"] = seq.readout_time ? py::object(py::float_(*seq.readout_time)) : py::none();
         d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
                                    py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
         const io::Distortion& dist = seq.distortion;

@@ -143,10 +143,9 @@ TEST(RollingShutter, AcceleratingPairWithThePairBefore) {
   EXPECT_GT(constant, 4.0 * linear) << constant << " vs " << linear << " cm or deg";
 }
 
-TEST(RollingShutter, OffByDefaultAndWithinOneSecond) {
-  TrackerOptions o;
-  EXPECT_EQ(o.readout_time, 0.0);
-  for (const double bad : {-0.001, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+TEST(RollingShutter, WithinOneSecondOrTheSequences) {
+  TrackerOptions o;  // -1, the sequence's: test_stated_readout.cpp
+  for (const double bad : {-0.001, -2.0, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
     o.readout_time = bad;
     EXPECT_THROW(validate(o), Error) << bad;
   }

@@ -9,6 +9,7 @@
 #include "experiments/cli/commands.h"
 #include "experiments/cli/tracker_flags.h"
 #include "experiments/sequence_runner.h"
+#include "experiments/tracker_option_table.h"
 #include "solvers/error.h"
 
 namespace bivo::experiments::cli {
@@ -71,6 +72,10 @@ void add_run_command(CLI::App& app) {
                        inputs);
     const RunOutcome run = run_sequence(req);
     write_run_outputs(run, req.tracker, outputs);
+    if (req.tracker.readout_time < 0.0 && run.readout_time > 0.0) {
+      std::cout << "note: colour images unrolled with the " << format_option_number(run.readout_time)
+                << " s rolling-shutter readout the sequence states (scene.json); --readout-time 0: global shutter\n";
+    }
     std::cout << run_summary_line(run) << std::endl;
   });
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "odometry/io/png_io.h"
+#include "odometry/io/sensor_description.h"
 #include "odometry/io/timestamp_matching.h"
 #include "odometry/io/tum_text.h"
 #include "solvers/error.h"
@@ -132,6 +133,8 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
     seq.groundtruth = read_tum_trajectory(gt);
     seq.list_files.push_back(gt);
   }
+  seq.readout_time = stated_readout_time(directory);
+  if (seq.readout_time) seq.list_files.push_back(sensor_description_path(directory));
   return seq;
 }
 

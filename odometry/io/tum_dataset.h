@@ -58,7 +58,10 @@ struct TumSequence {
   Distortion distortion;                  // of the images as stored (lens_distortion.h)
   std::vector<AssociatedFrame> frames;    // sorted by rgb time
   std::optional<Trajectory> groundtruth;  // when groundtruth.txt exists
-  std::vector<std::string> list_files;    // the text files read (lists, groundtruth.txt)
+  // The colour camera's rolling-shutter readout [s] as the sequence states it (scene.json of
+  // a bivo synth rendering, sensor_description.h); none for real TUM sequences.
+  std::optional<double> readout_time;
+  std::vector<std::string> list_files;  // the text files read (lists, groundtruth.txt, scene.json)
 };
 
 // associations.txt when present, otherwise rgb.txt + depth.txt associated by timestamp.

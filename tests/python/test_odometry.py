@@ -94,6 +94,7 @@ def test_open_sequence_lists_frames_and_ground_truth(synthetic_sequence):
     assert poses.shape == (len(t), 7)
     assert seq["intrinsics"]["fx"] > 0
     assert seq["distortion"] == {"k1": 0.0, "k2": 0.0, "p1": 0.0, "p2": 0.0, "k3": 0.0}  # a rendering
+    assert seq["readout_time"] is None  # rendered without sensor defects: no readout stated
     track = bivo.track(synthetic_sequence, max_frames=2)
     assert_same(track.timestamps, seq["timestamps"][:2], 0.0)
     assert_same(track.poses[0], poses[0], 1e-9)  # the first pose starts at the ground truth
