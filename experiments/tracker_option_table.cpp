@@ -115,9 +115,10 @@ std::vector<TrackerOption> build_table() {
       number("policy.guard", "--guard", 0.0, kInf,
              "rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
              BIVO_FIELD(policy.guard), "noise-bounded"),
-      number("policy.joint_tolerance", "--joint-tolerance", 0.0, kInf,
-             "relative merit change that ends a level (instead of --decrease-tolerance)",
-             BIVO_FIELD(policy.joint_tolerance), "joint"),
+      method_own(number("policy.joint_tolerance", "--joint-tolerance", 0.0, kInf,
+                        "relative merit change that ends a level (instead of --decrease-tolerance; -1: the method's "
+                        "own, joint 1e-4, robust 1e-5)",
+                        BIVO_FIELD(policy.joint_tolerance), "joint")),
       number("policy.relaxed_tolerance", "--relaxed-tolerance", 0.0, kInf,
              "relative merit change to which a relaxed level's photometric solution is finished",
              BIVO_FIELD(policy.relaxed_tolerance), "noise-bounded"),

@@ -72,8 +72,9 @@ struct PolicyParameters {
   // method joint: the relative merit change that ends a level (TrackerOptions::
   // relative_decrease_tolerance ends the other methods' levels). joint re-estimates its 2x2
   // scale, hence its whole cost, at every linearization: at 1e-3 it stopped while the weights
-  // still moved the estimate (fr1/rpy 1.07x single, 1.03x at 1e-5; docs/odometry.md).
-  double joint_tolerance = 1e-5;
+  // still moved the estimate (fr1/rpy 1.07x single, 1.03x at 1e-5; docs/odometry.md). -1 (the
+  // default): the method's own (method_joint_tolerance()).
+  double joint_tolerance = -1.0;
   // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
   // level's bi-objective estimate is rejected for the photometric one; kTrustOff and above: the
   // test is off and T is not evaluated. T also grows with the photometric model's own errors
@@ -166,6 +167,11 @@ int method_affine_brightness(Method method, int requested);
 // (and the methods that ignore it): 1; each chosen by leave-one-sequence-out
 // (docs/results/defaults.md, "Held out").
 int method_photometric_start_levels(Method method, int requested);
+// The level tolerance (PolicyParameters::joint_tolerance) a method uses when asked for -1
+// ("auto", the default); any other request is returned unchanged. joint: 1e-4, robust (and
+// the methods that ignore it): 1e-5; each chosen by leave-one-sequence-out
+// (docs/results/defaults.md, "Held out").
+double method_joint_tolerance(Method method, double requested);
 // The step extrapolation cap (TrackerOptions::step_extrapolation) a method uses when asked for
 // -1 ("auto", the tracker's default); any other request is returned unchanged. robust: 1.9 (its
 // re-estimated weights make every level crawl towards their fixed point; held out,

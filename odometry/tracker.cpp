@@ -173,8 +173,9 @@ PairResult estimate_once(const PreparedFrame& reference, const PreparedFrame& cu
   solvers::SolverOptions solver_options;
   solver_options.max_iterations = options.max_iterations;
   solver_options.step_tolerance = options.step_tolerance;
-  const double level_tolerance =
-      uses_joint_weights(method) ? options.policy.joint_tolerance : options.relative_decrease_tolerance;
+  const double level_tolerance = uses_joint_weights(method)
+                                     ? method_joint_tolerance(method, options.policy.joint_tolerance)
+                                     : options.relative_decrease_tolerance;
   // method robust: once a level's depth failed the trust test, the finer levels are
   // photometric (a biased sensor is biased at every resolution).
   bool depth_distrusted = false;

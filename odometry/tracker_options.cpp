@@ -73,8 +73,9 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.eps_ratio > 0.0 && std::isfinite(options.policy.eps_ratio))) {
     throw Error("eps ratio must be finite and > 0, got " + std::to_string(options.policy.eps_ratio));
   }
-  if (!(options.policy.joint_tolerance >= 0.0 && std::isfinite(options.policy.joint_tolerance))) {
-    throw Error("joint tolerance must be finite and >= 0, got " + std::to_string(options.policy.joint_tolerance));
+  const double jt = options.policy.joint_tolerance;
+  if (!(jt == -1.0 || (jt >= 0.0 && std::isfinite(jt)))) {
+    throw Error("joint tolerance must be finite and >= 0 (or -1, the method's own), got " + std::to_string(jt));
   }
   if (!(options.policy.relaxed_tolerance >= 0.0 && std::isfinite(options.policy.relaxed_tolerance))) {
     throw Error("relaxed tolerance must be finite and >= 0, got " + std::to_string(options.policy.relaxed_tolerance));
