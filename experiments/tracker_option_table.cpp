@@ -55,13 +55,9 @@ TrackerOption integer(std::string key, std::string flag, double lo, double hi, s
   o.type = OptionType::kInteger;
   return o;
 }
-// The option also takes -1, "the method's own" (odometry_methods.h resolves it).
-TrackerOption method_own(TrackerOption o) {
-  o.auto_value = -1.0;
-  return o;
-}
-// The option also takes -1, "what the sequence states" (odometry::with_stated_readout).
-TrackerOption stated_by_sequence(TrackerOption o) {
+// The option also takes -1: "the method's own" (odometry_methods.h resolves it) or, for the
+// readout time, "what the sequence states" (odometry::with_stated_readout).
+TrackerOption or_minus_one(TrackerOption o) {
   o.auto_value = -1.0;
   return o;
 }
@@ -115,10 +111,10 @@ std::vector<TrackerOption> build_table() {
       number("policy.guard", "--guard", 0.0, kInf,
              "rise of F_I in units of sigma_I^2 (chi-square-like, 6 dof) beyond which the bound is relaxed",
              BIVO_FIELD(policy.guard), "noise-bounded"),
-      method_own(number("policy.joint_tolerance", "--joint-tolerance", 0.0, kInf,
-                        "relative merit change that ends a level (instead of --decrease-tolerance; -1: the method's "
-                        "own, joint 1e-4, robust 1e-5)",
-                        BIVO_FIELD(policy.joint_tolerance), "joint")),
+      or_minus_one(number("policy.joint_tolerance", "--joint-tolerance", 0.0, kInf,
+                          "relative merit change that ends a level (instead of --decrease-tolerance; -1: the method's "
+                          "own, joint 1e-4, robust 1e-5)",
+                          BIVO_FIELD(policy.joint_tolerance), "joint")),
       number("policy.relaxed_tolerance", "--relaxed-tolerance", 0.0, kInf,
              "relative merit change to which a relaxed level's photometric solution is finished",
              BIVO_FIELD(policy.relaxed_tolerance), "noise-bounded"),
@@ -132,10 +128,10 @@ std::vector<TrackerOption> build_table() {
       number("policy.robust_finest_tolerance", "--robust-finest-tolerance", 0.0, kInf,
              "relative merit change that ends the finest level (--joint-tolerance ends the coarser ones)",
              BIVO_FIELD(policy.robust_finest_tolerance), "robust"),
-      method_own(number("policy.robust_finest_step_tolerance", "--robust-finest-step-tolerance", 0.0, kInf,
-                        "step norm (m, rad) that ends the finest level (--step-tolerance the coarser ones; -1: "
-                        "--step-tolerance there too)",
-                        BIVO_FIELD(policy.robust_finest_step_tolerance), "robust")),
+      or_minus_one(number("policy.robust_finest_step_tolerance", "--robust-finest-step-tolerance", 0.0, kInf,
+                          "step norm (m, rad) that ends the finest level (--step-tolerance the coarser ones; -1: "
+                          "--step-tolerance there too)",
+                          BIVO_FIELD(policy.robust_finest_step_tolerance), "robust")),
       integer("policy.photometric_start_levels", "--photometric-start-levels", -1, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
               "the method's own, 2 for joint, 1 for robust)",
@@ -160,11 +156,11 @@ std::vector<TrackerOption> build_table() {
       number("pixel_motion_tolerance", "--pixel-motion-tolerance", 0.0, kInf,
              "a step moving the reference points' projections by less than this RMS [px] ends a level (0: off)",
              BIVO_FIELD(pixel_motion_tolerance)),
-      method_own(number("step_extrapolation", "--step-extrapolation", 1.0, 100.0,
-                        "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated "
-                        "by, to the limit of its geometric tail (1: off; -1: the method's own, 1.9 for robust, else "
-                        "off)",
-                        BIVO_FIELD(step_extrapolation))),
+      or_minus_one(number("step_extrapolation", "--step-extrapolation", 1.0, 100.0,
+                          "largest factor a Gauss-Newton step that shrinks steadily in one direction is extrapolated "
+                          "by, to the limit of its geometric tail (1: off; -1: the method's own, 1.9 for robust, else "
+                          "off)",
+                          BIVO_FIELD(step_extrapolation))),
       integer("exact_finish_iterations", "--exact-finish-iterations", 0, 1000,
               "with inverse/esm Jacobians, continue the finest level with exact (current-side) gradients for at "
               "most N iterations (0: off)",
@@ -173,11 +169,11 @@ std::vector<TrackerOption> build_table() {
               "unsynchronized depth: re-estimate the pair on depth images moved to their colour images' times "
               "with the pair's first estimate (1), or take them as synchronized (0)",
               BIVO_FIELD(retime_depth)),
-      stated_by_sequence(number("readout_time", "--readout-time", 0.0, 1.0,
-                                "rolling-shutter readout of the colour images [s]: re-estimate the pair on colour "
-                                "images moved to their timestamps (the middle row's) with the pair's first estimate "
-                                "(0: global shutter; -1: the readout the sequence states in scene.json, else 0)",
-                                BIVO_FIELD(readout_time))),
+      or_minus_one(number("readout_time", "--readout-time", 0.0, 1.0,
+                          "rolling-shutter readout of the colour images [s]: re-estimate the pair on colour "
+                          "images moved to their timestamps (the middle row's) with the pair's first estimate "
+                          "(0: global shutter; -1: the readout the sequence states in scene.json, else 0)",
+                          BIVO_FIELD(readout_time))),
       other(T::kBoolean, "evaluate_unused_objective", "--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end",
             BIVO_FIELD(evaluate_unused_objective)),

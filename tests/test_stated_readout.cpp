@@ -8,6 +8,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "odometry/io/sensor_description.h"
 #include "odometry/io/tum_dataset.h"
@@ -60,7 +61,7 @@ double StatedReadout::rendered_ = 0.0;
 bool same_poses(const TrackResult& a, const TrackResult& b) {
   if (a.trajectory.size() != b.trajectory.size()) return false;
   for (std::size_t k = 0; k < a.trajectory.size(); ++k) {
-    if (!a.trajectory[k].T_wc.matrix().isApprox(b.trajectory[k].T_wc.matrix(), 0.0)) return false;
+    if (a.trajectory[k].T_wc.matrix() != b.trajectory[k].T_wc.matrix()) return false;
   }
   return true;
 }
