@@ -23,20 +23,34 @@ rm -rf "$work/seeds"
 bound=(-max_total_time="$seconds")
 if [ -n "${FUZZ_RUNS:-}" ]; then bound=(-runs="$FUZZ_RUNS"); fi
 
-failed=0
-for t in "${targets[@]}"; do
-  corpus="$work/corpus/$t" findings="$work/findings/$t" log="$work/fuzz_$t.log"
+# Targets run side by side, FUZZ_JOBS at a time (default: the processors here); each is one
+# process on one core, so the time bound is each target's, and the reports come in order.
+jobs=${FUZZ_JOBS:-$(nproc)}
+fuzz_one() {
+  local t=$1 corpus="$work/corpus/$1" findings="$work/findings/$1" log="$work/fuzz_$1.log"
   mkdir -p "$corpus" "$findings"
   # -timeout: seconds per input; -rss_limit_mb: an OOM is a finding; the first folder receives
   # new coverage, the others (seeds, regressions) are read only.
   if "$build/tests/fuzz/fuzz_$t" "${bound[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
       -print_final_stats=1 -artifact_prefix="$findings/" \
       "$corpus" "$work/seeds/$t" "tests/fuzz/regressions/$t" >"$log" 2>&1; then
-    status=ok
+    echo ok >"$work/status_$t"
   else
-    status=FAILED
-    failed=1
+    echo FAILED >"$work/status_$t"
   fi
+}
+for t in "${targets[@]}"; do
+  rm -f "$work/status_$t"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  fuzz_one "$t" &
+done
+wait
+
+failed=0
+for t in "${targets[@]}"; do
+  corpus="$work/corpus/$t" findings="$work/findings/$t" log="$work/fuzz_$t.log"
+  status=$(cat "$work/status_$t" 2>/dev/null || echo FAILED)
+  [ "$status" = ok ] || failed=1
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   speed=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   cov=$(grep -oE 'cov: [0-9]+' "$log" | tail -1 | grep -o '[0-9]*' || echo "?")
