@@ -232,8 +232,9 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
   const std::vector<std::vector<double>> settings = loso_settings(o);
   for (int h = 0; h < n; ++h) {
     // Per setting over the other sequences at every level: the worst ratio, the sum of the
-    // ratios' logs and, per level, the CPU per pair relative to the cost method's (`cost`:
-    // the largest of them).
+    // ratios' logs and, per level, the CPU per pair relative to the cost method's, the
+    // geometric mean of the per-sequence ratios (`cost`: the largest of them). Per sequence, so
+    // that a cost both methods share (a sequence that is slow for both) dilutes nothing.
     struct Score {
       const std::vector<double>* setting;
       double worst = 0.0, log_sum = 0.0, cost = 0.0;
@@ -243,17 +244,19 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
     for (const std::vector<double>& setting : settings) {
       Score sc{&setting, 0.0, 0.0, 0.0, {}};
       for (int l = 0; l < nl; ++l) {
-        double cpu = 0.0, cpu_of_cost_method = 0.0;
+        double log_cost_sum = 0.0;
         for (int s = 0; s < n; ++s) {
           if (s == h) continue;
           const LosoRun* r = find_run(s, levels[l], o.method, setting);
           const double w = r && r->ok ? worst_ratio(*r, *ref[s][l]) : kInf;
           sc.worst = std::max(sc.worst, w);
           sc.log_sum += std::log(w);
-          cpu += r && r->ok ? r->median_cpu_ms : kInf;
-          if (budget) cpu_of_cost_method += find_run(s, levels[l], o.cost_method, {})->median_cpu_ms;
+          if (budget) {
+            const double cpu = r && r->ok ? r->median_cpu_ms : kInf;
+            log_cost_sum += std::log(cpu / find_run(s, levels[l], o.cost_method, {})->median_cpu_ms);
+          }
         }
-        const double cost = budget ? cpu / cpu_of_cost_method : 0.0;
+        const double cost = budget ? std::exp(log_cost_sum / (n - 1)) : 0.0;
         sc.level_cost.push_back(cost);
         sc.cost = l == 0 ? cost : std::max(sc.cost, cost);
       }

@@ -111,15 +111,15 @@ TEST(Loso, ACostBudgetLeavesOnlyTheValuesWithinItOnTheOthers) {
   }
   LosoResult r = assemble_loso(o, runs);
   ASSERT_EQ(r.rows.size(), 3u);
-  // Held out a: value 1 costs (11 + 11) / (10 + 10) = 1.1x weighted on b and c, within.
+  // Held out a: value 1 costs 11 / 10 = 1.1x weighted on b and on c, within.
   EXPECT_EQ(r.rows[0].chosen, V{1.0});
-  EXPECT_DOUBLE_EQ(r.rows[0].train_cost, 1.1);
+  EXPECT_NEAR(r.rows[0].train_cost, 1.1, 1e-12);
   EXPECT_DOUBLE_EQ(r.rows[0].train_worst, 0.5);
-  // Held out b (or c): a is on the others, value 1 costs (20 + 11) / 20 = 1.55x, beyond the
-  // budget; the most accurate value within it is 2 (1.2x).
+  // Held out b (or c): a is on the others, value 1 costs sqrt(20 / 10 * 11 / 10) = 1.48x,
+  // beyond the budget; the most accurate value within it is 2 (1.2x).
   for (int h : {1, 2}) {
     EXPECT_EQ(r.rows[h].chosen, V{2.0}) << h;
-    EXPECT_DOUBLE_EQ(r.rows[h].train_cost, 1.2) << h;
+    EXPECT_NEAR(r.rows[h].train_cost, 1.2, 1e-12) << h;
     EXPECT_DOUBLE_EQ(r.rows[h].train_worst, 0.6) << h;
   }
   // No budget: accuracy alone, value 1 in every fold.
@@ -130,15 +130,45 @@ TEST(Loso, ACostBudgetLeavesOnlyTheValuesWithinItOnTheOthers) {
   r = assemble_loso(o, runs);
   for (const LosoRow& row : r.rows) {
     EXPECT_EQ(row.chosen, V{3.0});
-    EXPECT_DOUBLE_EQ(row.train_cost, 1.08);
+    EXPECT_NEAR(row.train_cost, 1.08, 1e-12);
   }
   // In units of the reference, budget 1.4x single: without a, value 1 costs 1.375x; with a,
-  // only 3 keeps within (1.35x; 1 costs 1.94x, 2 1.5x).
+  // only 3 keeps within (1.35x; 1 costs sqrt(2.5 * 1.375) = 1.85x, 2 1.5x).
   o.cost_method = "single";
   o.cost_budget = 1.4;
   r = assemble_loso(o, runs);
   EXPECT_EQ(r.rows[0].chosen, V{1.0});
   EXPECT_EQ(r.rows[1].chosen, V{3.0});
+}
+
+// The budget is per sequence: a sequence slow for both methods (a cost they share, such as a
+// rolling-shutter correction) must not dilute a setting that doubles the CPU elsewhere.
+TEST(Loso, ACostBudgetIsTheGeometricMeanOfThePerSequenceRatios) {
+  LosoOptions o;
+  o.sequences = {"a", "b", "c", "d"};
+  o.parameters[0].grid = {1.0, 2.0};
+  o.methods = {"weighted"};
+  o.cost_budget = 1.3;
+  std::vector<LosoRun> runs;
+  const auto timed = [](LosoRun r, double cpu_ms) {
+    r.median_cpu_ms = cpu_ms;
+    return r;
+  };
+  for (int s = 0; s < 4; ++s) {
+    const double shared = s == 0 ? 100.0 : 0.0;  // a: both pay 100 ms more per pair
+    runs.push_back(timed(run(s, "single", 1.0, 1.0), 8.0));
+    runs.push_back(timed(run(s, "weighted", 1.0, 1.0), 10.0 + shared));
+    runs.push_back(timed(run(s, "robust", 0.5, 0.5, true, 1.0), 20.0 + shared));  // 2x weighted's own
+    runs.push_back(timed(run(s, "robust", 0.6, 0.6, true, 2.0), 12.0 + shared));
+  }
+  const LosoResult r = assemble_loso(o, runs);
+  ASSERT_EQ(r.rows.size(), 4u);
+  // Held out d: value 1 costs 120 / 110 on a, 2x on b and c: (1.09 * 2 * 2)^(1/3) = 1.63x,
+  // beyond 1.3 (the ratio of the sums, 160 / 130 = 1.23x, would keep it).
+  EXPECT_EQ(r.rows[3].chosen, V{2.0});
+  EXPECT_NEAR(r.rows[3].train_cost, std::cbrt(112.0 / 110.0 * 1.2 * 1.2), 1e-12);
+  // Held out a: 2x on each of b, c, d; value 2 (1.2x) in every fold.
+  for (const LosoRow& row : r.rows) EXPECT_EQ(row.chosen, V{2.0}) << row.sequence;
 }
 
 TEST(Loso, RefusesACostBudgetItCannotMeasure) {
