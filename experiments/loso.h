@@ -43,9 +43,9 @@ struct LosoOptions {
   int progress = -1;
   // A CPU budget (0: none), for a speed setting: in each fold only the settings whose CPU per
   // pair over the other sequences (the geometric mean of the sequences' ratios of medians) is
-  // at most cost_budget times cost_method's, at every finest level, are candidates, and accuracy chooses among
-  // them as above; when none keeps within it, the cheapest (at its most expensive level) is
-  // chosen. cost_method: the reference or one of `methods`.
+  // at most cost_budget times cost_method's, at every finest level, are candidates, and
+  // accuracy chooses among them as above; when none keeps within it, the cheapest (at its most
+  // expensive level) is chosen. cost_method: the reference or one of `methods`.
   double cost_budget = 0.0;
   std::string cost_method = "weighted";
 };

@@ -83,12 +83,10 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
                   "--finest-level alone)");
   cmd->add_option("--reference", a->o.reference, "the method the ratios are taken to")->capture_default_str();
   cmd->add_option("--methods", a->o.methods, "methods reported beside, at their defaults (no choice)");
-  cmd->add_option(
-         "--cost-budget", a->o.cost_budget,
-         "for a speed setting: only settings whose CPU per pair on the other sequences (the geometric mean "
-         "of the per-sequence ratios, at each of --finest-levels) is at most this many times --cost-method's are "
-         "candidates (the cheapest when none "
-         "is; 0: no budget)")
+  cmd->add_option("--cost-budget", a->o.cost_budget,
+                  "for a speed setting: only settings whose CPU per pair on the other sequences (the geometric "
+                  "mean of the per-sequence ratios, at each of --finest-levels) is at most this many times "
+                  "--cost-method's are candidates (the cheapest when none is; 0: no budget)")
       ->capture_default_str();
   cmd->add_option("--cost-method", a->o.cost_method,
                   "the method the cost budget is in units of (--reference or one of --methods)")
