@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "odometry/io/lens_distortion.h"
@@ -17,6 +18,9 @@ namespace {
 
 constexpr double kOutlierRel = 0.10;
 constexpr int kLags[] = {1, 2, 4, 8, 16, 32, 64, 128};
+constexpr int kColourStride = 4;     // every 4th pixel and row is a colour term
+constexpr double kFlatColour = 4.0;  // gray levels per pixel: a flat neighbourhood
+constexpr double kDark = 8.0, kSaturated = 247.0;
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -47,6 +51,65 @@ double sample_depth(const std::vector<float>& d, int w, int h, double x, double 
   return d[yn * w + xn];
 }
 
+// One colour comparison at a correspondence: y = ln I_j(x') - ln I_i(x), rho^2 at x and x'.
+struct ColourTerm {
+  float y, rho2_i, rho2_j;
+  int pair;
+};
+
+// k of ln(1 - k rho_j^2) - ln(1 - k rho_i^2) + c_pair fit to the terms' y: Gauss-Newton on k with
+// the pair offsets eliminated (weighted means per pair), Huber weights (1.345 sigma, sigma the
+// MAD of the centred residual) re-estimated at every step. NaN when k is not observed (no term
+// moves in rho^2) or the fit leaves the model's domain (k in (-1, 1)).
+double fit_colour_falloff(const std::vector<ColourTerm>& terms, int pairs) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (terms.empty() || pairs < 1) return nan;
+  const std::size_t n = terms.size();
+  std::vector<double> w(n, 1.0), e(n), J(n), centred(n);
+  double k = 0.0;
+  for (int it = 0; it < 50; ++it) {
+    std::vector<double> sw(static_cast<std::size_t>(pairs), 0.0), se(sw), sj(sw);
+    for (std::size_t i = 0; i < n; ++i) {
+      const ColourTerm& t = terms[i];
+      const double vi = 1.0 - k * t.rho2_i, vj = 1.0 - k * t.rho2_j;
+      e[i] = t.y - (std::log(vj) - std::log(vi));
+      J[i] = -t.rho2_j / vj + t.rho2_i / vi;
+      sw[t.pair] += w[i];
+      se[t.pair] += w[i] * e[i];
+      sj[t.pair] += w[i] * J[i];
+    }
+    double num = 0.0, den = 0.0, wsum = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t p = static_cast<std::size_t>(terms[i].pair);
+      centred[i] = e[i] - se[p] / sw[p];
+      const double jc = J[i] - sj[p] / sw[p];
+      num += w[i] * jc * centred[i];
+      den += w[i] * jc * jc;
+      wsum += w[i];
+    }
+    if (!(den > 1e-9 * wsum)) return nan;
+    const double step = num / den;
+    k += step;
+    if (!(std::fabs(k) < 1.0)) return nan;
+    std::vector<double> dev(n);
+    for (std::size_t i = 0; i < n; ++i) dev[i] = std::fabs(centred[i]);
+    const double c = 1.345 * std::max(1e-6, 1.4826 * median(dev));
+    for (std::size_t i = 0; i < n; ++i) w[i] = dev[i] <= c ? 1.0 : c / dev[i];
+    if (std::fabs(step) < 1e-6) break;
+  }
+  return k;
+}
+
+// Bilinear intensity of `im` at (x, y); NaN outside the image.
+double sample_intensity(const std::vector<float>& im, int w, int h, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) return std::numeric_limits<double>::quiet_NaN();
+  const double fx = x - x0, fy = y - y0;
+  const auto at = [&](int u, int v) { return static_cast<double>(im[static_cast<std::size_t>(v) * w + u]); };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
 }  // namespace
 
 DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResidualOptions& o) {
@@ -71,6 +134,7 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
   double lag_num[std::size(kLags)] = {}, lag_a[std::size(kLags)] = {}, lag_b[std::size(kLags)] = {};
   std::vector<std::pair<double, double>> by_depth;  // (z, r)
   std::vector<double> pair_means;
+  std::vector<ColourTerm> colour;
   std::size_t compared = 0, outliers = 0;
   for (int p = 0; p < pairs; ++p) {
     const int i =
@@ -99,7 +163,8 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
         const Eigen::Vector3d X((u - cx) / K.fx * z, (v - cy) / K.fy * z, z);
         const Eigen::Vector3d Y = *T * X;
         if (!(Y.z() > 0.1)) continue;
-        const double zb = sample_depth(b.depth, w, h, K.fx * Y.x() / Y.z() + cx, K.fy * Y.y() / Y.z() + cy);
+        const double xb = K.fx * Y.x() / Y.z() + cx, yb = K.fy * Y.y() / Y.z() + cy;
+        const double zb = sample_depth(b.depth, w, h, xb, yb);
         if (!(zb > 0)) continue;
         ++compared;
         const double r = zb - Y.z();
@@ -115,6 +180,16 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
         const double rho2 = ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / r2max;
         if (rho2 < 0.1) rel_inner.push_back(q);
         if (rho2 > 0.5) rel_outer.push_back(q);
+        if (u % kColourStride == 0 && v % kColourStride == 0 && u > 0 && v > 0 && u + 1 < w && v + 1 < h) {
+          const auto I = [&](int x, int y) { return static_cast<double>(a.intensity[y * w + x]); };
+          const double flat = 0.5 * (std::fabs(I(u + 1, v) - I(u - 1, v)) + std::fabs(I(u, v + 1) - I(u, v - 1)));
+          const double ia = I(u, v), ib = sample_intensity(b.intensity, w, h, xb, yb);
+          if (flat < kFlatColour && ia > kDark && ia < kSaturated && ib > kDark && ib < kSaturated) {
+            const double rho2b = ((xb - cx) * (xb - cx) + (yb - cy) * (yb - cy)) / r2max;
+            colour.push_back({static_cast<float>(std::log(ib) - std::log(ia)), static_cast<float>(rho2),
+                              static_cast<float>(rho2b), s.pairs - 1});
+          }
+        }
         e[v * w + u] = static_cast<float>(q);
         pair_sum += q;
         ++pair_n;
@@ -170,6 +245,7 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
   };
   s.radial_ratio = rms(rel_inner) > 0 ? rms(rel_outer) / rms(rel_inner) : 0.0;
   s.pair_bias_rms = rms(pair_means);
+  s.colour_falloff = fit_colour_falloff(colour, s.pairs);
   // spread(r) per depth bin, then the least-squares slope of log spread against log z.
   const double edges[] = {0.5, 0.8, 1.1, 1.5, 2.0, 2.6, 3.3, 4.2, 6.0, 10.0};
   std::vector<double> lx, ly;
@@ -200,15 +276,19 @@ DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResid
 std::string depth_residual_table(const std::vector<DepthResidualStats>& rows) {
   std::ostringstream t;
   t << "| sequence | pairs | median z [m] | z > 3 m | outliers | mean r/z [%] | pair-mean RMS [%] | "
-       "spread r/z^2 [1e-3/m] | corr. length [px] | edge/centre RMS | depth exponent |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "spread r/z^2 [1e-3/m] | corr. length [px] | edge/centre RMS | depth exponent | colour fall-off k |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   t << std::fixed;
   for (const DepthResidualStats& s : rows) {
     t << "| " << s.sequence << " | " << s.pairs << " | " << std::setprecision(2) << s.median_depth_m << " | "
       << std::setprecision(0) << 100 * s.beyond_3m << " % | " << std::setprecision(1) << 100 * s.outlier_share
       << " % | " << std::setprecision(2) << 100 * s.mean_rel << " | " << 100 * s.pair_bias_rms << " | "
       << 1e3 * s.spread_z2 << " | " << std::setprecision(1) << s.correlation_px << " | " << std::setprecision(2)
-      << s.radial_ratio << " | " << s.depth_exponent << " |\n";
+      << s.radial_ratio << " | " << s.depth_exponent << " | ";
+    if (std::isnan(s.colour_falloff))
+      t << "- |\n";
+    else
+      t << s.colour_falloff << " |\n";
   }
   return t.str();
 }

@@ -9,6 +9,13 @@
 // (bilinear where the 4 neighbours agree within 5 %, else nearest): r = z_j - z'. Pixels
 // with |r| > 10 % of z' (occlusions, missing surfaces) are counted as outliers and left out.
 //
+// The colour images are compared at the same correspondences (every 4th pixel and row, inliers
+// whose colour is flat, |dI/du| + |dI/dv| < 4 gray levels per pixel, and neither dark nor
+// saturated): y = ln I_j(x') - ln I_i(x) is fit by ln(1 - k rho'^2) - ln(1 - k rho^2) plus one
+// offset per pair (exposure), Huber-weighted. k is a radial fall-off fixed to the camera
+// (vignetting, the renderer's model; rho^2 as in edge/centre); the scene's own shading moves
+// with the scene and does not fit it.
+//
 //   DepthResidualOptions o;  o.gap = 1;  o.max_pairs = 40;
 //   DepthResidualStats s = depth_residual_stats("/data/rgbd_dataset_freiburg1_rpy", o);
 #include <string>
@@ -33,6 +40,7 @@ struct DepthResidualStats {
   double radial_ratio = 0;                   // RMS(r/z) at rho^2 > 0.5 over RMS(r/z) at rho^2 < 0.1
   double depth_exponent = 0;                 // p of spread(r) ~ z^p over depth bins
   double pair_bias_rms = 0;                  // RMS over pairs of each pair's mean r / z
+  double colour_falloff = 0;                 // k above; NaN when the motion does not observe it
 };
 
 // Throws bivo::Error when the sequence has no ground truth or fewer than gap + 1 frames.

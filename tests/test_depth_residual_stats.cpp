@@ -1,0 +1,80 @@
+// `bivo depth-stats`' colour fall-off (experiments/depth_residual_stats.h) against the
+// renderer's vignetting, whose value is known: a textureless rendering with a fall-off of
+// k = 0.25 at the corner gives k, one without gives 0, and per-frame exposure steps (one gain
+// per image) do not move it. The depth statistics of the same renderings stay those of
+// unbiased depth (mean r/z near 0).
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "experiments/depth_residual_stats.h"
+#include "odometry/synth/sequence.h"
+
+using namespace bivo;
+namespace fs = std::filesystem;
+
+namespace {
+
+class ColourFalloff : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("bivo_test_depth_stats_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    vignetted_ = render("vignetted", 0.25, 0.0);
+    clean_ = render("clean", 0.0, 0.0);
+    exposed_ = render("exposed", 0.25, 0.05);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  // 14 frames of the textureless near plane, turning at 60 deg/s, with fall-off k and
+  // auto-exposure steps of log-gain sigma `gain_step`.
+  static std::string render(const std::string& name, double k, double gain_step) {
+    odometry::synth::SynthOptions o;
+    o.category = odometry::synth::parse_category("nostructure_notexture_near");
+    o.frames = 14;
+    o.seed = 3;
+    o.handheld.mean_angular_speed_dps = 60.0;
+    o.render.defects.vignetting = k;
+    o.render.defects.gain_step = gain_step;
+    o.sequence_name = "rgbd_dataset_freiburg3_" + name;
+    return odometry::synth::render_sequence(o, dir_.string());
+  }
+
+  static experiments::DepthResidualStats stats(const std::string& sequence) {
+    experiments::DepthResidualOptions o;
+    o.gap = 2;
+    o.max_pairs = 12;
+    return experiments::depth_residual_stats(sequence, o);
+  }
+
+  static fs::path dir_;
+  static std::string vignetted_, clean_, exposed_;
+};
+fs::path ColourFalloff::dir_;
+std::string ColourFalloff::vignetted_, ColourFalloff::clean_, ColourFalloff::exposed_;
+
+}  // namespace
+
+TEST_F(ColourFalloff, RecoversTheRenderedVignetting) {
+  const experiments::DepthResidualStats s = stats(vignetted_);
+  EXPECT_EQ(s.pairs, 12);
+  EXPECT_NEAR(s.colour_falloff, 0.25, 0.02);
+  EXPECT_LT(std::fabs(s.mean_rel), 2e-3);  // unbiased depth
+}
+
+TEST_F(ColourFalloff, IsZeroWithoutVignetting) { EXPECT_NEAR(stats(clean_).colour_falloff, 0.0, 0.02); }
+
+TEST_F(ColourFalloff, ExposureStepsDoNotMoveIt) {
+  const double with_steps = stats(exposed_).colour_falloff;
+  EXPECT_NEAR(with_steps, 0.25, 0.02);
+  EXPECT_NEAR(with_steps, stats(vignetted_).colour_falloff, 0.01);
+}
+
+TEST_F(ColourFalloff, TheTableShowsIt) {
+  const std::string table = experiments::depth_residual_table({stats(vignetted_)});
+  EXPECT_NE(table.find("colour fall-off k"), std::string::npos);
+  EXPECT_NE(table.find("| 0.2"), std::string::npos) << table;
+}
