@@ -1,8 +1,8 @@
 // `bivo depth-stats`' colour fall-off (experiments/depth_residual_stats.h) against the
 // renderer's vignetting, whose value is known: a textureless rendering with a fall-off of
 // k = 0.25 at the corner gives k, one without gives 0, and per-frame exposure steps (one gain
-// per image) do not move it. The depth statistics of the same renderings stay those of
-// unbiased depth (mean r/z near 0).
+// per image) do not move it; a camera that does not move does not observe it ("-"). The depth statistics of the same
+// renderings stay those of unbiased depth (mean r/z near 0).
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -26,17 +26,19 @@ class ColourFalloff : public ::testing::Test {
     vignetted_ = render("vignetted", 0.25, 0.0);
     clean_ = render("clean", 0.0, 0.0);
     exposed_ = render("exposed", 0.25, 0.05);
+    still_ = render("still", 0.25, 0.0, 0.0);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  // 14 frames of the textureless near plane, turning at 60 deg/s, with fall-off k and
-  // auto-exposure steps of log-gain sigma `gain_step`.
-  static std::string render(const std::string& name, double k, double gain_step) {
+  // 14 frames of the textureless near plane, turning at `turn` deg/s (and moving when it
+  // turns), with fall-off k and auto-exposure steps of log-gain sigma `gain_step`.
+  static std::string render(const std::string& name, double k, double gain_step, double turn = 60.0) {
     odometry::synth::SynthOptions o;
     o.category = odometry::synth::parse_category("nostructure_notexture_near");
     o.frames = 14;
     o.seed = 3;
-    o.handheld.mean_angular_speed_dps = 60.0;
+    o.handheld.mean_angular_speed_dps = turn;
+    if (turn == 0.0) o.handheld.mean_linear_speed_mps = 0.0;
     o.render.defects.vignetting = k;
     o.render.defects.gain_step = gain_step;
     o.sequence_name = "rgbd_dataset_freiburg3_" + name;
@@ -51,10 +53,10 @@ class ColourFalloff : public ::testing::Test {
   }
 
   static fs::path dir_;
-  static std::string vignetted_, clean_, exposed_;
+  static std::string vignetted_, clean_, exposed_, still_;
 };
 fs::path ColourFalloff::dir_;
-std::string ColourFalloff::vignetted_, ColourFalloff::clean_, ColourFalloff::exposed_;
+std::string ColourFalloff::vignetted_, ColourFalloff::clean_, ColourFalloff::exposed_, ColourFalloff::still_;
 
 }  // namespace
 
@@ -77,4 +79,12 @@ TEST_F(ColourFalloff, TheTableShowsIt) {
   const std::string table = experiments::depth_residual_table({stats(vignetted_)});
   EXPECT_NE(table.find("colour fall-off k"), std::string::npos);
   EXPECT_NE(table.find("| 0.2"), std::string::npos) << table;
+}
+
+TEST_F(ColourFalloff, IsNotReportedWhenTheCameraDoesNotMove) {
+  const experiments::DepthResidualStats s = stats(still_);
+  EXPECT_EQ(s.pairs, 12);
+  EXPECT_TRUE(std::isnan(s.colour_falloff)) << s.colour_falloff;
+  const std::string table = experiments::depth_residual_table({s});
+  EXPECT_NE(table.find("| - |"), std::string::npos) << table;
 }
