@@ -134,7 +134,7 @@ std::vector<TrackerOption> build_table() {
                           BIVO_FIELD(policy.robust_finest_step_tolerance), "robust")),
       integer("policy.photometric_start_levels", "--photometric-start-levels", -1, 8,
               "methods joint and robust: the coarsest N levels start from F_I's own solution (0: off; -1: "
-              "the method's own, 2 for joint, 1 for robust)",
+              "the method's own, 3 for joint, 1 for robust)",
               BIVO_FIELD(policy.photometric_start_levels)),
       integer("policy.both_starts", "--both-starts", 0, 1,
               "methods joint and robust: 1 also solves the photometric start levels from the prior and, where "

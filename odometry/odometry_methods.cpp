@@ -170,7 +170,7 @@ double method_joint_tolerance(Method method, double requested) {
 
 int method_photometric_start_levels(Method method, int requested) {
   if (requested >= 0) return requested;
-  return method == Method::kJoint ? 2 : 1;
+  return method == Method::kJoint ? 3 : 1;
 }
 
 double method_step_extrapolation(Method method, double requested) {

@@ -163,7 +163,7 @@ int method_depth_noise_exponent(Method method, int requested);
 // docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
 int method_affine_brightness(Method method, int requested);
 // The photometric start (PolicyParameters::photometric_start_levels) a method uses when asked
-// for -1 ("auto", the default); any other request is returned unchanged. joint: 2, robust
+// for -1 ("auto", the default); any other request is returned unchanged. joint: 3, robust
 // (and the methods that ignore it): 1; each chosen by leave-one-sequence-out
 // (docs/results/defaults.md, "Held out").
 int method_photometric_start_levels(Method method, int requested);

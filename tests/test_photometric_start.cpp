@@ -16,7 +16,7 @@ using namespace bivo::odometry::io;
 
 TEST(PhotometricStart, AutoIsTwoLevelsForJointAndOneForRobust) {
   EXPECT_EQ(PolicyParameters{}.photometric_start_levels, -1);
-  EXPECT_EQ(method_photometric_start_levels(Method::kJoint, -1), 2);
+  EXPECT_EQ(method_photometric_start_levels(Method::kJoint, -1), 3);
   EXPECT_EQ(method_photometric_start_levels(Method::kRobust, -1), 1);
   EXPECT_EQ(method_photometric_start_levels(Method::kJoint, 0), 0);  // a request is kept
   EXPECT_EQ(method_photometric_start_levels(Method::kRobust, 3), 3);
@@ -43,7 +43,7 @@ TEST(PhotometricStart, TheDefaultRunIsTheRunWithTheMethodsOwnLevels) {
     m.policy.photometric_start_levels = levels;
     return estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), m);
   };
-  for (const auto& [method, own, other] : {std::tuple<std::string, int, int>{"joint", 2, 1}, {"robust", 1, 2}}) {
+  for (const auto& [method, own, other] : {std::tuple<std::string, int, int>{"joint", 3, 1}, {"robust", 1, 2}}) {
     const PairResult by_default = run(method, -1), asked = run(method, own), not_own = run(method, other);
     EXPECT_TRUE(by_default.T_21.matrix() == asked.T_21.matrix()) << method;
     EXPECT_EQ(by_default.iterations, asked.iterations) << method;
