@@ -70,10 +70,9 @@ struct PolicyParameters {
   // towards the depth objective); 1.055x -> 1.03x worst ratio to single (docs/odometry.md).
   double relaxed_tolerance = 1e-5;
   // method joint: the relative merit change that ends a level (TrackerOptions::
-  // relative_decrease_tolerance ends the other methods' levels). joint re-estimates its 2x2
-  // scale, hence its whole cost, at every linearization: at 1e-3 it stopped while the weights
-  // still moved the estimate (fr1/rpy 1.07x single, 1.03x at 1e-5; docs/odometry.md). -1 (the
-  // default): the method's own (method_joint_tolerance()).
+  // relative_decrease_tolerance ends the other methods' levels); joint re-estimates its 2x2
+  // scale, hence its whole cost, at every linearization. -1 (the default): the method's own
+  // (method_joint_tolerance(), chosen held out).
   double joint_tolerance = -1.0;
   // method robust: the threshold on the depth trust statistic T (depth_trust.h) above which a
   // level's bi-objective estimate is rejected for the photometric one; kTrustOff and above: the
@@ -168,7 +167,7 @@ int method_affine_brightness(Method method, int requested);
 // (docs/results/defaults.md, "Held out").
 int method_photometric_start_levels(Method method, int requested);
 // The level tolerance (PolicyParameters::joint_tolerance) a method uses when asked for -1
-// ("auto", the default); any other request is returned unchanged. joint: 1e-4, robust (and
+// ("auto", the default); any other request is returned unchanged. joint: 1e-3, robust (and
 // the methods that ignore it): 1e-5; each chosen by leave-one-sequence-out
 // (docs/results/defaults.md, "Held out").
 double method_joint_tolerance(Method method, double requested);

@@ -392,14 +392,14 @@ TEST(Tracker, JointStopsAtItsOwnTolerance) {
             estimate_motion(ref, cur, Eigen::Isometry3d::Identity(), single).iterations);
 }
 
-// The default level tolerance (-1) is each method's own, chosen held out: joint 1e-4, robust
+// The default level tolerance (-1) is each method's own, chosen held out: joint 1e-3, robust
 // 1e-5 (docs/results/defaults.md); the default runs bit for bit as the value given.
 TEST(Tracker, LevelToleranceIsEachMethodsOwn) {
   if (!have_data()) GTEST_SKIP() << "shared data absent: " << kData;
   const TumSequence seq = open_tum_sequence(kData + "rgbd_dataset_freiburg1_desk", {});
   const PreparedFrame ref = prepare_frame(load_rgbd_image(seq.frames[2]), seq.intrinsics, 4);
   const PreparedFrame cur = prepare_frame(load_rgbd_image(seq.frames[3]), seq.intrinsics, 4);
-  for (const auto& [method, own] : {std::pair<std::string, double>{"joint", 1e-4}, {"robust", 1e-5}}) {
+  for (const auto& [method, own] : {std::pair<std::string, double>{"joint", 1e-3}, {"robust", 1e-5}}) {
     TrackerOptions o;
     o.method = method;
     EXPECT_EQ(o.policy.joint_tolerance, -1.0);
