@@ -9,6 +9,9 @@ JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo-output
 # Extra configure arguments, e.g. CMAKE_ARGS=-DCMAKE_COMPILE_WARNING_AS_ERROR=ON (CI).
 CMAKE_ARGS ?=
+# Ninja for a new build folder (it compiles a target's files while the libraries they need
+# still link; Make waits); a folder configured before keeps its generator.
+generator = $(if $(wildcard $(1)/CMakeCache.txt),,-G Ninja)
 SAN_BUILD ?= build-sanitize
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 30
@@ -25,7 +28,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:detect_stack_use_after_re
 
 # The clang configuration shared by `make sanitize` (whole project) and `make fuzz-ci`
 # (fuzz targets only); $(1) is the build folder.
-san_configure = cmake -S . -B $(1) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+san_configure = cmake -S . -B $(1) $(call generator,$(1)) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
 	  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
 	  -DCMAKE_COMPILE_WARNING_AS_ERROR=ON -DBIVO_BENCHMARKS=OFF -DBIVO_PYTHON=OFF -DBIVO_FUZZ=ON $(CMAKE_ARGS)
@@ -39,7 +42,7 @@ deps-sanitizer:
 	bash scripts/install-deps.sh --sanitizer
 
 build:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	cmake -S . -B $(BUILD) $(call generator,$(BUILD)) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 	cmake --build $(BUILD) -j$(JOBS)
 
 test: deps
@@ -48,7 +51,7 @@ test: deps
 
 # The demo needs only the command line: the tests, benchmarks and Python module wait for `make test`.
 demo: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	cmake -S . -B $(BUILD) $(call generator,$(BUILD)) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 	cmake --build $(BUILD) -j$(JOBS) --target bivo
 	$(BUILD)/experiments/bivo demo --output $(DEMO_OUT)
 

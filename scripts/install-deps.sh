@@ -6,7 +6,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  cmake make g++ pkg-config
+  cmake ninja-build make g++ pkg-config
   libeigen3-dev
   libceres-dev
   coinor-libipopt-dev

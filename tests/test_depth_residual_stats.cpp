@@ -20,13 +20,10 @@ namespace {
 
 class ColourFalloff : public ::testing::Test {
  protected:
+  // ctest runs each test in its own process: each renders only the sequences it reads.
   static void SetUpTestSuite() {
     dir_ = fs::temp_directory_path() / ("bivo_test_depth_stats_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
-    vignetted_ = render("vignetted", 0.25, 0.0);
-    clean_ = render("clean", 0.0, 0.0);
-    exposed_ = render("exposed", 0.25, 0.05);
-    still_ = render("still", 0.25, 0.0, 0.0);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
@@ -44,6 +41,22 @@ class ColourFalloff : public ::testing::Test {
     o.sequence_name = "rgbd_dataset_freiburg3_" + name;
     return odometry::synth::render_sequence(o, dir_.string());
   }
+  static const std::string& vignetted() {
+    static const std::string s = render("vignetted", 0.25, 0.0);
+    return s;
+  }
+  static const std::string& clean() {
+    static const std::string s = render("clean", 0.0, 0.0);
+    return s;
+  }
+  static const std::string& exposed() {
+    static const std::string s = render("exposed", 0.25, 0.05);
+    return s;
+  }
+  static const std::string& still() {
+    static const std::string s = render("still", 0.25, 0.0, 0.0);
+    return s;
+  }
 
   static experiments::DepthResidualStats stats(const std::string& sequence) {
     experiments::DepthResidualOptions o;
@@ -53,36 +66,34 @@ class ColourFalloff : public ::testing::Test {
   }
 
   static fs::path dir_;
-  static std::string vignetted_, clean_, exposed_, still_;
 };
 fs::path ColourFalloff::dir_;
-std::string ColourFalloff::vignetted_, ColourFalloff::clean_, ColourFalloff::exposed_, ColourFalloff::still_;
 
 }  // namespace
 
 TEST_F(ColourFalloff, RecoversTheRenderedVignetting) {
-  const experiments::DepthResidualStats s = stats(vignetted_);
+  const experiments::DepthResidualStats s = stats(vignetted());
   EXPECT_EQ(s.pairs, 12);
   EXPECT_NEAR(s.colour_falloff, 0.25, 0.02);
   EXPECT_LT(std::fabs(s.mean_rel), 2e-3);  // unbiased depth
 }
 
-TEST_F(ColourFalloff, IsZeroWithoutVignetting) { EXPECT_NEAR(stats(clean_).colour_falloff, 0.0, 0.02); }
+TEST_F(ColourFalloff, IsZeroWithoutVignetting) { EXPECT_NEAR(stats(clean()).colour_falloff, 0.0, 0.02); }
 
 TEST_F(ColourFalloff, ExposureStepsDoNotMoveIt) {
-  const double with_steps = stats(exposed_).colour_falloff;
+  const double with_steps = stats(exposed()).colour_falloff;
   EXPECT_NEAR(with_steps, 0.25, 0.02);
-  EXPECT_NEAR(with_steps, stats(vignetted_).colour_falloff, 0.01);
+  EXPECT_NEAR(with_steps, stats(vignetted()).colour_falloff, 0.01);
 }
 
 TEST_F(ColourFalloff, TheTableShowsIt) {
-  const std::string table = experiments::depth_residual_table({stats(vignetted_)});
+  const std::string table = experiments::depth_residual_table({stats(vignetted())});
   EXPECT_NE(table.find("colour fall-off k"), std::string::npos);
   EXPECT_NE(table.find("| 0.2"), std::string::npos) << table;
 }
 
 TEST_F(ColourFalloff, IsNotReportedWhenTheCameraDoesNotMove) {
-  const experiments::DepthResidualStats s = stats(still_);
+  const experiments::DepthResidualStats s = stats(still());
   EXPECT_EQ(s.pairs, 12);
   EXPECT_TRUE(std::isnan(s.colour_falloff)) << s.colour_falloff;
   const std::string table = experiments::depth_residual_table({s});
