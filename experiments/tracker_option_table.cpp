@@ -147,6 +147,10 @@ std::vector<TrackerOption> build_table() {
               BIVO_FIELD(finest_level)),
       other(T::kName, "initial_guess", "--initial-guess", "identity or constant-velocity",
             BIVO_NAMED(initial_guess, odometry::to_string, odometry::parse_initial_guess)),
+      integer("retry_from_rest", "--retry-from-rest", 0, 1,
+              "a pair no level could solve from the constant-velocity prior is estimated again from rest (1), or "
+              "takes the prior (0)",
+              BIVO_FIELD(retry_from_rest)),
       integer("max_iterations", "--max-iterations", 1, 100000, "outer iterations per pyramid level",
               BIVO_FIELD(max_iterations)),
       number("step_tolerance", "--step-tolerance", 0.0, kInf, "step norm (m, rad) that ends a level",

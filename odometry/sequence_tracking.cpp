@@ -27,7 +27,7 @@ StreamStep estimate_motion_preparing_next(const PreparedFrame& reference, const 
                                           std::optional<io::RgbdImage> next_image, const io::Intrinsics& K) {
   StreamStep step;
   run_beside(
-      options.problem.threads, [&] { step.pair = estimate_motion(reference, current, initial, options); },
+      options.problem.threads, [&] { step.pair = estimate_motion_from_prior(reference, current, initial, options); },
       [&] {
         if (!next_image) return;
         const auto t0 = Clock::now();

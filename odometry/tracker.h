@@ -62,6 +62,11 @@ struct TrackerOptions {
   int levels = 4;                   // 640x480 .. 80x60
   int finest_level = 0;             // stop refining at this level (0 = full resolution)
   InitialGuess initial_guess = InitialGuess::kConstantVelocity;
+  // 1: a pair that no level could solve from a constant-velocity prior is estimated again from
+  // rest (the identity) before it takes the prior (estimate_motion_from_prior): a velocity
+  // estimated wrong once otherwise repeats itself, each next pair starting from it, failing
+  // and being chained with it. 0: the prior stands.
+  int retry_from_rest = 1;
   int max_iterations = 20;                    // per pyramid level
   double step_tolerance = 1e-4;               // |delta| (m, rad) that ends a level
   double relative_decrease_tolerance = 1e-3;  // relative merit change that ends a level
@@ -262,6 +267,13 @@ double thread_cpu_seconds();
 // result's timing fields cover the estimation only.
 PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& current,
                            const Eigen::Isometry3d& initial, const TrackerOptions& options);
+
+// estimate_motion() from a motion prior; with TrackerOptions::retry_from_rest, a pair that no
+// level could solve from a prior other than the identity is estimated again from rest, and
+// the prior stands only when that fails too (iterations and times count both solves).
+// track_sequence() estimates every pair so.
+PairResult estimate_motion_from_prior(const PreparedFrame& reference, const PreparedFrame& current,
+                                      const Eigen::Isometry3d& prior, const TrackerOptions& options);
 
 // Two frames of a sequence for per-pair studies (Pareto fronts, unit tests).
 struct FramePair {

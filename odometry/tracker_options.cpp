@@ -48,6 +48,9 @@ void validate(const TrackerOptions& options) {
     throw Error("exact finish iterations must be >= 0 (0: off), got " +
                 std::to_string(options.exact_finish_iterations));
   }
+  if (options.retry_from_rest != 0 && options.retry_from_rest != 1) {
+    throw Error("retry from rest must be 0 or 1, got " + std::to_string(options.retry_from_rest));
+  }
   if (options.retime_depth != 0 && options.retime_depth != 1) {
     throw Error("retime depth must be 0 or 1, got " + std::to_string(options.retime_depth));
   }
