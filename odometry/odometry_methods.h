@@ -54,7 +54,7 @@ std::string default_backend(Method method);
 
 // Defaults chosen by the sweeps of docs/results/defaults.md.
 struct PolicyParameters {
-  double lambda = 1e4;        // method fixed [gray^2 / m^2]
+  double lambda = 1e3;        // method fixed [gray^2 / m^2]
   double phi = 100.0;         // method weighted: the adjustable constant of eq. `eq to calculate lambda`
   double delta = 0.02;        // method bounded: threshold on pi(D) [m per pixel]
   double eps_min = 3e-4;      // method bounded: per-unit-weight bound [m^2] on rich structure
