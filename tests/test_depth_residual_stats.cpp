@@ -3,8 +3,10 @@
 // k = 0.25 at the corner gives k, one without gives 0, and per-frame exposure steps (one gain
 // per image) do not move it; a camera that does not move does not observe it ("-"). The depth statistics of the same
 // renderings stay those of unbiased depth (mean r/z near 0).
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -41,21 +43,17 @@ class ColourFalloff : public ::testing::Test {
     o.sequence_name = "rgbd_dataset_freiburg3_" + name;
     return odometry::synth::render_sequence(o, dir_.string());
   }
-  static const std::string& vignetted() {
-    static const std::string s = render("vignetted", 0.25, 0.0);
-    return s;
-  }
-  static const std::string& clean() {
-    static const std::string s = render("clean", 0.0, 0.0);
-    return s;
-  }
-  static const std::string& exposed() {
-    static const std::string s = render("exposed", 0.25, 0.05);
-    return s;
-  }
-  static const std::string& still() {
-    static const std::string s = render("still", 0.25, 0.0, 0.0);
-    return s;
+  // The four sequences the tests read, each rendered at its first use: (k, gain step, turn).
+  static const std::string& sequence(const std::string& name) {
+    static std::map<std::string, std::string> rendered;
+    const auto it = rendered.find(name);
+    if (it != rendered.end()) return it->second;
+    const std::map<std::string, std::array<double, 3>> settings = {{"vignetted", {0.25, 0.0, 60.0}},
+                                                                   {"clean", {0.0, 0.0, 60.0}},
+                                                                   {"exposed", {0.25, 0.05, 60.0}},
+                                                                   {"still", {0.25, 0.0, 0.0}}};
+    const std::array<double, 3>& p = settings.at(name);
+    return rendered[name] = render(name, p[0], p[1], p[2]);
   }
 
   static experiments::DepthResidualStats stats(const std::string& sequence) {
@@ -72,28 +70,28 @@ fs::path ColourFalloff::dir_;
 }  // namespace
 
 TEST_F(ColourFalloff, RecoversTheRenderedVignetting) {
-  const experiments::DepthResidualStats s = stats(vignetted());
+  const experiments::DepthResidualStats s = stats(sequence("vignetted"));
   EXPECT_EQ(s.pairs, 12);
   EXPECT_NEAR(s.colour_falloff, 0.25, 0.02);
   EXPECT_LT(std::fabs(s.mean_rel), 2e-3);  // unbiased depth
 }
 
-TEST_F(ColourFalloff, IsZeroWithoutVignetting) { EXPECT_NEAR(stats(clean()).colour_falloff, 0.0, 0.02); }
+TEST_F(ColourFalloff, IsZeroWithoutVignetting) { EXPECT_NEAR(stats(sequence("clean")).colour_falloff, 0.0, 0.02); }
 
 TEST_F(ColourFalloff, ExposureStepsDoNotMoveIt) {
-  const double with_steps = stats(exposed()).colour_falloff;
+  const double with_steps = stats(sequence("exposed")).colour_falloff;
   EXPECT_NEAR(with_steps, 0.25, 0.02);
-  EXPECT_NEAR(with_steps, stats(vignetted()).colour_falloff, 0.01);
+  EXPECT_NEAR(with_steps, stats(sequence("vignetted")).colour_falloff, 0.01);
 }
 
 TEST_F(ColourFalloff, TheTableShowsIt) {
-  const std::string table = experiments::depth_residual_table({stats(vignetted())});
+  const std::string table = experiments::depth_residual_table({stats(sequence("vignetted"))});
   EXPECT_NE(table.find("colour fall-off k"), std::string::npos);
   EXPECT_NE(table.find("| 0.2"), std::string::npos) << table;
 }
 
 TEST_F(ColourFalloff, IsNotReportedWhenTheCameraDoesNotMove) {
-  const experiments::DepthResidualStats s = stats(still());
+  const experiments::DepthResidualStats s = stats(sequence("still"));
   EXPECT_EQ(s.pairs, 12);
   EXPECT_TRUE(std::isnan(s.colour_falloff)) << s.colour_falloff;
   const std::string table = experiments::depth_residual_table({s});
