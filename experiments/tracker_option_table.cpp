@@ -148,8 +148,8 @@ std::vector<TrackerOption> build_table() {
       other(T::kName, "initial_guess", "--initial-guess", "identity or constant-velocity",
             BIVO_NAMED(initial_guess, odometry::to_string, odometry::parse_initial_guess)),
       integer("retry_from_rest", "--retry-from-rest", 0, 1,
-              "a pair no level could solve from the constant-velocity prior is estimated again from rest (1), or "
-              "takes the prior (0)",
+              "a pair no level could solve from the constant-velocity prior is estimated again from rest, kept "
+              "when it aligns the pair as well as the prior (1), or takes the prior (0)",
               BIVO_FIELD(retry_from_rest)),
       integer("max_iterations", "--max-iterations", 1, 100000, "outer iterations per pyramid level",
               BIVO_FIELD(max_iterations)),

@@ -454,24 +454,6 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   return second;
 }
 
-PairResult estimate_motion_from_prior(const PreparedFrame& reference, const PreparedFrame& current,
-                                      const Eigen::Isometry3d& prior, const TrackerOptions& options) {
-  PairResult first = estimate_motion(reference, current, prior, options);
-  if (first.valid || options.retry_from_rest != 1 || prior.isApprox(Eigen::Isometry3d::Identity())) return first;
-  PairResult retry = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), options);
-  if (!retry.valid) {  // the prior stands
-    first.iterations += retry.iterations;
-    first.note += "; from rest: " + retry.note;
-    return first;
-  }
-  retry.iterations += first.iterations;
-  retry.seconds += first.seconds;
-  retry.cpu_seconds += first.cpu_seconds;
-  retry.profile.merge(first.profile);
-  retry.note = "from the prior: " + first.note + "; solved from rest";
-  return retry;
-}
-
 std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const TrackerOptions& options) const {
   if (level < 0 || level >= static_cast<int>(reference.pyramid.levels.size())) {
     throw Error("frame pair: level " + std::to_string(level) + " outside 0.." +

@@ -269,9 +269,10 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
                            const Eigen::Isometry3d& initial, const TrackerOptions& options);
 
 // estimate_motion() from a motion prior; with TrackerOptions::retry_from_rest, a pair that no
-// level could solve from a prior other than the identity is estimated again from rest, and
-// the prior stands only when that fails too (iterations and times count both solves).
-// track_sequence() estimates every pair so.
+// level could solve from a prior other than the identity is estimated again from rest; that
+// estimate replaces the prior when its residuals (r_I; r_D for depth) at the finest level have
+// a t-scale no larger than the prior's, else the prior stands (iterations and CPU times count
+// both solves). track_sequence() estimates every pair so.
 PairResult estimate_motion_from_prior(const PreparedFrame& reference, const PreparedFrame& current,
                                       const Eigen::Isometry3d& prior, const TrackerOptions& options);
 
