@@ -1,6 +1,5 @@
 // TrackerOptions::retry_from_rest: a pair lost at its motion prior is solved again from rest,
 // and the two candidates are compared by how well they align the pair.
-#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -13,15 +12,12 @@ namespace bivo::odometry {
 namespace {
 
 // The robust (t-distribution) scale of the method's first objective's residuals (r_I; r_D for
-// method depth) at motion T on the finest level solved: how well T aligns the pair, on the
-// terms it keeps in view. +inf when fewer than the tracker's minimum of terms are valid.
+// method depth) at motion T on the finest level solved, on the frames as given: how well T
+// aligns the pair, on the terms it keeps in view. +inf when fewer than the tracker's minimum
+// of terms are valid.
 double residual_scale_at(const PreparedFrame& reference, const PreparedFrame& current, const Eigen::Isometry3d& T,
                          const TrackerOptions& options) {
-  const Method method = parse_method(options.method);
-  RgbdProblemOptions po = options.problem;
-  po.depth_first = method == Method::kDepth;
-  po.depth_noise_exponent = method_depth_noise_exponent(method, po.depth_noise_exponent);
-  po.min_valid_terms = std::max(po.min_valid_terms, options.min_valid_pixels);
+  RgbdProblemOptions po = method_problem_options(parse_method(options.method), options);
   po.joint_weights = false;
   po.affine_brightness = 0;
   po.jacobian = JacobianKind::kForward;
@@ -44,11 +40,12 @@ PairResult estimate_motion_from_prior(const PreparedFrame& reference, const Prep
   PairResult retry = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), options);
   // The solve from rest can end in a wrong minimum that keeps more terms in view than the
   // truth does (fast motion): it replaces the prior only when it aligns the pair better.
-  const auto cpu0 = process_cpu_seconds();
+  const double cpu0 = process_cpu_seconds();
   const double at_prior = retry.valid ? residual_scale_at(reference, current, prior, options) : 0.0;
   const double at_retry = retry.valid ? residual_scale_at(reference, current, retry.T_21, options) : 0.0;
   if (!retry.valid || !(at_retry <= at_prior)) {  // the prior stands
     first.iterations += retry.iterations;
+    first.seconds += retry.seconds;
     first.cpu_seconds += retry.cpu_seconds + (process_cpu_seconds() - cpu0);
     first.note += "; from rest: " + (retry.valid ? "residual scale " + std::to_string(at_retry) +
                                                        " above the prior's " + std::to_string(at_prior)

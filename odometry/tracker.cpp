@@ -42,18 +42,6 @@ bool failed_solve(const solvers::Summary& s) {
 
 constexpr double kNotEvaluated = std::numeric_limits<double>::quiet_NaN();
 
-// The tracker's problem options with the method's own settings and "auto" values resolved
-// (the Jacobian kind, which depends on the level, aside).
-RgbdProblemOptions method_problem_options(Method method, const TrackerOptions& options) {
-  RgbdProblemOptions o = options.problem;
-  o.depth_first = method == Method::kDepth;
-  o.joint_weights = uses_joint_weights(method);
-  o.depth_noise_exponent = method_depth_noise_exponent(method, o.depth_noise_exponent);
-  o.affine_brightness = method_affine_brightness(method, o.affine_brightness);
-  o.min_valid_terms = std::max(o.min_valid_terms, options.min_valid_pixels);
-  return o;
-}
-
 // Both starts: two estimates of a level closer than 0.5 deg and 1 cm are one minimum reached
 // from two starts, and the photometric start's is kept (choosing between them by det S would
 // only add noise); the basin failures both starts are for are errors of degrees. Above the
@@ -77,6 +65,16 @@ FrameStatistics policy_statistics(Method method, const PreparedFrame& frame, int
 }
 
 }  // namespace
+
+RgbdProblemOptions method_problem_options(Method method, const TrackerOptions& options) {
+  RgbdProblemOptions o = options.problem;
+  o.depth_first = method == Method::kDepth;
+  o.joint_weights = uses_joint_weights(method);
+  o.depth_noise_exponent = method_depth_noise_exponent(method, o.depth_noise_exponent);
+  o.affine_brightness = method_affine_brightness(method, o.affine_brightness);
+  o.min_valid_terms = std::max(o.min_valid_terms, options.min_valid_pixels);
+  return o;
+}
 
 double process_cpu_seconds() {
   timespec ts{};

@@ -144,6 +144,9 @@ int load_threads_for(const TrackerOptions& options, unsigned cores = 0);
 
 // The backend the options name, or the method's default (gn / exact) when none is named.
 std::string tracker_backend(const TrackerOptions& options);
+// The problem options the tracker solves `method` with: the method's own settings and "auto"
+// values resolved (the Jacobian kind, which depends on the level, aside).
+RgbdProblemOptions method_problem_options(Method method, const TrackerOptions& options);
 // Checks names and numbers up front (unknown method/backend, backend that cannot solve the
 // method's scalarization, levels < 1, ...); throws bivo::Error listing valid choices.
 void validate(const TrackerOptions& options);
@@ -271,8 +274,8 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
 // estimate_motion() from a motion prior; with TrackerOptions::retry_from_rest, a pair that no
 // level could solve from a prior other than the identity is estimated again from rest; that
 // estimate replaces the prior when its residuals (r_I; r_D for depth) at the finest level have
-// a t-scale no larger than the prior's, else the prior stands (iterations and CPU times count
-// both solves). track_sequence() estimates every pair so.
+// a t-scale no larger than the prior's, else the prior stands (iterations and times count both
+// solves, the CPU time also the comparison). track_sequence() estimates every pair so.
 PairResult estimate_motion_from_prior(const PreparedFrame& reference, const PreparedFrame& current,
                                       const Eigen::Isometry3d& prior, const TrackerOptions& options);
 
