@@ -124,6 +124,12 @@ std::vector<LosoRun> loso_units(const LosoOptions& o) {
     got << o.cost_budget;
     throw Error("loso: the cost budget must be finite and >= 0 (0: none), got " + got.str());
   }
+  if (!(o.acceptable_ratio >= 0.0 && std::isfinite(o.acceptable_ratio))) {
+    std::ostringstream got;
+    got << o.acceptable_ratio;
+    throw Error("loso: the acceptable ratio must be finite and >= 0 (0: the smallest worst ratio decides), got " +
+                got.str());
+  }
   if (o.cost_budget > 0.0 && o.cost_method != o.reference &&
       std::find(o.methods.begin(), o.methods.end(), o.cost_method) == o.methods.end()) {
     throw Error("loso: the cost budget is in units of '" + o.cost_method +
@@ -262,9 +268,12 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
       }
       scores.push_back(sc);
     }
-    // A parameter that does not move the worst sequence ties there: the geometric mean of
-    // the same ratios decides, then the first setting.
-    const auto more_accurate = [](const Score& a, const Score& b) {
+    // Acceptable settings first, by geometric mean; the others by worst ratio, a tie (a
+    // parameter that does not move the worst sequence) by geometric mean; then the first.
+    const auto acceptable = [&](const Score& sc) { return sc.worst <= o.acceptable_ratio; };
+    const auto more_accurate = [&](const Score& a, const Score& b) {
+      if (acceptable(a) != acceptable(b)) return acceptable(a);
+      if (acceptable(a)) return a.log_sum < b.log_sum || (a.log_sum == b.log_sum && a.worst < b.worst);
       return a.worst < b.worst || (a.worst == b.worst && a.log_sum < b.log_sum);
     };
     const auto within = [&](const Score& sc) { return !budget || sc.cost <= o.cost_budget; };
@@ -284,6 +293,7 @@ LosoResult assemble_loso(const LosoOptions& o, std::vector<LosoRun> runs) {
       row.reference = ref[h][l];
       row.chosen = *best->setting;
       row.train_worst = best->worst;
+      row.train_mean = std::exp(best->log_sum / ((n - 1) * nl));
       row.train_cost = best->level_cost[l];
       row.held_out = find_run(h, levels[l], o.method, row.chosen);
       for (const std::string& m : o.methods) row.others.push_back(find_run(h, levels[l], m, {}));
@@ -331,20 +341,25 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
   md << "Held-out RPE trans [m/s] / rot [deg/s] (ratio to " << o.reference << "; largest per-pair rotation error); "
      << o.method << "'s " << listed(names) << (several ? " chosen together" : " chosen") << " on the other sequences";
   if (pooled) md << ", at finest levels " << listed(levels) << " at once";
+  if (o.acceptable_ratio > 0.0) {
+    md << "; of the settings within " << o.acceptable_ratio << "x " << o.reference
+       << " there, the smallest geometric mean of the per-sequence worst ratios";
+  }
   md << ".\n\n| held out |" << (pooled ? " finest level |" : "");
   for (const std::string& name : names) md << " " << name << " chosen |";
-  md << " worst ratio on the others |";
+  md << " worst ratio on the others | geometric mean there |";
   const bool budget = o.cost_budget > 0.0;
   if (budget) md << " CPU per pair on the others (x " << o.cost_method << "; budget " << o.cost_budget << ") |";
   md << " " << o.reference << " | " << o.method << " |";
   for (const std::string& m : o.methods) md << " " << m << " |";
   md << "\n|---|" << (pooled ? "---:|" : "");
   for (std::size_t k = 0; k < names.size(); ++k) md << "---:|";
-  md << "---:|" << (budget ? "---:|" : "") << "---:|---:|";
+  md << "---:|---:|" << (budget ? "---:|" : "") << "---:|---:|";
   for (std::size_t k = 0; k < o.methods.size(); ++k) md << "---:|";
   md << "\n";
   csv << "sequence," << (pooled ? "finest_level," : "") << columns("chosen")
-      << ",train_worst,ref_trans,ref_rot,trans,rot,trans_ratio,rot_ratio,max_pair_rot,ref_max_pair_rot,train_cost\n";
+      << ",train_worst,ref_trans,ref_rot,trans,rot,trans_ratio,rot_ratio,max_pair_rot,ref_max_pair_rot,train_cost,"
+         "train_mean\n";
   for (const LosoRow& row : result.rows) {
     const LosoRun& ref = *row.reference;
     // A single parameter's values are printed as they always were (from the second row on at
@@ -353,7 +368,7 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
     md << "| " << row.sequence << " |";
     if (pooled) md << " " << row.finest_level << " |";
     for (double v : row.chosen) md << " " << v << " |";
-    md << " " << std::fixed << std::setprecision(3) << row.train_worst << " | ";
+    md << " " << std::fixed << std::setprecision(3) << row.train_worst << " | " << row.train_mean << " | ";
     if (budget) md << std::setprecision(2) << row.train_cost << " | ";
     md << std::setprecision(4) << ref.rpe_trans << " / " << std::setprecision(3) << ref.rpe_rot << " (max pair "
        << std::setprecision(2) << max_of(ref.pair_rot) << " deg) | " << cell(row.held_out, &ref) << " |";
@@ -369,7 +384,7 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
         << "," << (ok ? row.held_out->rpe_rot : NAN) << ","
         << (ok ? ratio(row.held_out->rpe_trans, ref.rpe_trans) : NAN) << ","
         << (ok ? ratio(row.held_out->rpe_rot, ref.rpe_rot) : NAN) << "," << (ok ? max_of(row.held_out->pair_rot) : NAN)
-        << "," << max_of(ref.pair_rot) << "," << (budget ? row.train_cost : NAN) << "\n";
+        << "," << max_of(ref.pair_rot) << "," << (budget ? row.train_cost : NAN) << "," << row.train_mean << "\n";
   }
   const std::string level_column = pooled ? "finest_level," : "";
   runs_csv << "sequence,method," << columns("value") << "," << level_column

@@ -3,9 +3,12 @@
 // parameters (e.g. robust's trust threshold) runs on every sequence at every setting, the
 // cartesian product of the parameters' grids, the reference method (single) once per
 // sequence; then for each held-out sequence the setting is chosen on all the OTHER sequences
-// (the smallest worst ratio to the reference over them, translational and rotational RPE
-// alike; on a tie, the smallest geometric mean of those per-sequence worst ratios) and only
-// the held-out sequence's RPE at that setting is reported. Fixed methods (no grid) are
+// and only the held-out sequence's RPE at that setting is reported. Each run's score is its
+// worst ratio to the reference, translational or rotational RPE; over the other sequences a
+// setting has a worst score and a geometric mean. The settings whose worst is within
+// LosoOptions::acceptable_ratio are acceptable (they never cost much); among them the smallest
+// geometric mean (the largest typical gain) is chosen; when none is, the smallest worst (a
+// tie: the geometric mean). Fixed methods (no grid) are
 // reported beside it for comparison. With a CPU budget (LosoOptions::cost_budget) only the
 // settings that keep within it on the other sequences are candidates. With pooled finest
 // levels (LosoOptions::finest_levels) every run is made at each level, and the worst ratio,
@@ -48,6 +51,11 @@ struct LosoOptions {
   // expensive level) is chosen. cost_method: the reference or one of `methods`.
   double cost_budget = 0.0;
   std::string cost_method = "weighted";
+  // The worst ratio to the reference a setting may have on the other sequences and still be
+  // chosen for its geometric mean (0: none may; the smallest worst ratio always decides).
+  // Without it the rule prefers a value at which the method does nothing (ratio 1 on every
+  // sequence) to one that gains on most and costs 2 % on one.
+  double acceptable_ratio = 1.05;
 };
 
 // One run: a sequence with one method (at one setting when `values` is set) at one level.
@@ -69,6 +77,7 @@ struct LosoRow {
   int finest_level = -1;               // with pooled finest levels, the row's; -1 otherwise
   std::vector<double> chosen;          // the setting chosen without this sequence (per parameter)
   double train_worst = 0.0;            // its worst ratio over the other sequences (and every level)
+  double train_mean = 0.0;             // the geometric mean of its per-sequence worst ratios there
   double train_cost = 0.0;             // with a cost budget: its CPU per pair there / cost_method's, at this level
   const LosoRun* reference = nullptr;  // this sequence's, at this level
   const LosoRun* held_out = nullptr;   // the method at `chosen` on this sequence

@@ -1,6 +1,7 @@
-// Leave-one-sequence-out (experiments/loso.h): the value chosen for a held-out sequence is
-// the one with the smallest worst ratio to the reference over the OTHER sequences (on a tie,
-// the smaller geometric mean), checked on hand-made runs whose choice is known; several
+// Leave-one-sequence-out (experiments/loso.h): the value chosen for a held-out sequence is,
+// over the OTHER sequences, the smallest geometric mean of those within the acceptable worst
+// ratio to the reference, else the smallest worst ratio, checked on hand-made runs whose
+// choice is known; several
 // parameters are chosen over the product of their grids, pooled finest levels all at once;
 // bad inputs are refused before any run.
 #include <cmath>
@@ -82,6 +83,7 @@ TEST(Loso, EachHeldOutSequenceGetsTheValueChosenWithoutIt) {
 
 TEST(Loso, ATieOnTheWorstSequenceGoesToTheSmallerGeometricMean) {
   LosoOptions o;
+  o.acceptable_ratio = 0.0;  // the worst ratio decides, the geometric mean only on a tie
   o.sequences = {"a", "b", "c"};
   o.parameters[0].grid = {1.0, 2.0, 3.0};
   std::vector<LosoRun> runs;
@@ -105,6 +107,50 @@ TEST(Loso, ATieOnTheWorstSequenceGoesToTheSmallerGeometricMean) {
   // sqrt(0.5 * 0.3) -> 3.
   EXPECT_EQ(r.rows[0].chosen, V{3.0});
   EXPECT_DOUBLE_EQ(r.rows[0].train_worst, 0.5);
+}
+
+// Among the settings within the acceptable ratio on the other sequences, the smallest geometric
+// mean wins, even against one whose worst ratio is smaller (a value at which the method does
+// nothing); a setting beyond it is never chosen for its mean; when none is within, the
+// smallest worst ratio decides.
+TEST(Loso, AnAcceptableSettingIsChosenByItsGeometricMean) {
+  LosoOptions o;
+  o.sequences = {"a", "b", "c", "d"};
+  o.parameters[0].grid = {1.0, 2.0, 3.0};
+  std::vector<LosoRun> runs;
+  for (int s = 0; s < 4; ++s) {
+    runs.push_back(run(s, "single", 1.0, 1.0));
+    runs.push_back(run(s, "robust", 1.0, 1.0, true, 1.0));                  // inert: single on every sequence
+    runs.push_back(run(s, "robust", 0.5, s == 0 ? 1.02 : 0.4, true, 2.0));  // 1.02x on a (rotation)
+    runs.push_back(run(s, "robust", 0.2, s == 1 ? 1.2 : 0.1, true, 3.0));   // 1.2x on b
+  }
+  LosoResult r = assemble_loso(o, runs);
+  ASSERT_EQ(r.rows.size(), 4u);
+  // Held out d (a, b, c): 1 worst 1.0, mean 1; 2 worst 1.02, mean (1.02 * 0.5 * 0.5)^(1/3);
+  // 3 worst 1.2, beyond 1.05 -> 2.
+  EXPECT_EQ(r.rows[3].chosen, V{2.0});
+  EXPECT_DOUBLE_EQ(r.rows[3].train_worst, 1.02);
+  EXPECT_NEAR(r.rows[3].train_mean, std::cbrt(1.02 * 0.5 * 0.5), 1e-12);
+  // Held out b: 3 is within on a, c, d (0.2x) and has the smallest mean -> 3.
+  EXPECT_EQ(r.rows[1].chosen, V{3.0});
+  EXPECT_NEAR(r.rows[1].train_mean, 0.2, 1e-12);
+  // Held out a: 2 is 0.5x everywhere else, 3 is 1.2x on b -> 2.
+  EXPECT_EQ(r.rows[0].chosen, V{2.0});
+  // The smallest worst ratio alone (0) prefers doing nothing wherever 2's 1.02x counts.
+  o.acceptable_ratio = 0.0;
+  r = assemble_loso(o, runs);
+  EXPECT_EQ(r.rows[3].chosen, V{1.0});
+  EXPECT_EQ(r.rows[0].chosen, V{2.0});  // without a, 2 is 0.5x at worst
+  // Within 1.01: 2 is out wherever a counts, 1 is in.
+  o.acceptable_ratio = 1.01;
+  EXPECT_EQ(assemble_loso(o, runs).rows[3].chosen, V{1.0});
+  // None within 0.9 where a and b both count: the smallest worst ratio, 1 (1.0 against 1.02
+  // and 1.2), not the smallest mean (3).
+  o.acceptable_ratio = 0.9;
+  EXPECT_EQ(assemble_loso(o, runs).rows[2].chosen, V{1.0});
+  // Bad values are refused before any run.
+  o.acceptable_ratio = -1.0;
+  EXPECT_NE(error_of([&] { loso_units(o); }).find("acceptable ratio must be finite and >= 0"), std::string::npos);
 }
 
 TEST(Loso, ACostBudgetLeavesOnlyTheValuesWithinItOnTheOthers) {

@@ -97,8 +97,18 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   // the same hash for studies planned before (and their results merge).
   std::vector<std::string> keys;
   for (auto it = j["loso"].begin(); it != j["loso"].end(); ++it) keys.push_back(it.key());
-  EXPECT_EQ(keys, (std::vector<std::string>{"first_frame", "grid", "max_frames", "method", "methods", "parameter",
-                                            "reference", "sequences"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"acceptable_ratio", "first_frame", "grid", "max_frames", "method",
+                                            "methods", "parameter", "reference", "sequences"}));
+  // The acceptable ratio chooses among finished runs too; a file without it (planned before
+  // the rule) merges as it was planned: the smallest worst ratio decides.
+  EXPECT_EQ(j["loso"]["acceptable_ratio"], 1.05);
+  EXPECT_EQ(hash_with([](Study& t) { t.loso->acceptable_ratio = 0.0; }), h);
+  nlohmann::json before_rule = j;
+  before_rule["loso"].erase("acceptable_ratio");
+  EXPECT_EQ(study_from_json(before_rule, "s.json").loso->acceptable_ratio, 0.0);
+  nlohmann::json negative = j;
+  negative["loso"]["acceptable_ratio"] = -1.0;
+  EXPECT_NE(error_of([&] { study_from_json(negative, "s.json"); }).find("acceptable_ratio"), std::string::npos);
   // A cost budget chooses among finished runs: the same runs merge under any budget.
   EXPECT_EQ(j["loso"].count("cost_budget"), 0u);  // none: the file of a study planned without one
   Study budgeted = s;

@@ -74,6 +74,7 @@ json parts_json(const Study& s) {
         j["loso"]["parameters"].push_back({{"parameter", p.name}, {"grid", p.grid}});
     }
     if (!o.finest_levels.empty()) j["loso"]["finest_levels"] = o.finest_levels;  // absent: the tracker's
+    j["loso"]["acceptable_ratio"] = o.acceptable_ratio;
     if (o.cost_budget > 0.0) {  // absent: none, as planned before budgets existed
       j["loso"]["cost_budget"] = o.cost_budget;
       j["loso"]["cost_method"] = o.cost_method;
@@ -288,6 +289,8 @@ Study study_from_json(const json& j, const std::string& where) {
     o.max_frames = lr.integer("max_frames", -1);
     lr.number("cost_budget", o.cost_budget, 0.0, std::numeric_limits<double>::max());  // absent: none
     lr.string("cost_method", o.cost_method);
+    o.acceptable_ratio = 0.0;  // absent: the smallest worst ratio decides, as planned before the rule
+    lr.number("acceptable_ratio", o.acceptable_ratio, 0.0, std::numeric_limits<double>::max());
     lr.reject_unknown();
     s.loso = o;
   }
@@ -338,6 +341,7 @@ std::string study_hash(const Study& study) {
   if (parts.contains("loso")) {
     parts["loso"].erase("cost_budget");
     parts["loso"].erase("cost_method");
+    parts["loso"].erase("acceptable_ratio");
   }
   const std::string text = parts.dump();      // keys sorted: canonical
   std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64

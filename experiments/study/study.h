@@ -27,7 +27,8 @@
 //             "reference": "single", "methods": [...], "first_frame": 0, "max_frames": -1}}
 //   (loso with several parameters: "parameters": [{"parameter": ..., "grid": [...]}, ...] in
 //   place of "parameter" and "grid"; with pooled finest levels "finest_levels": [0, 1]; with a
-//   cost budget "cost_budget" and "cost_method", not hashed)
+//   cost budget "cost_budget" and "cost_method"; "acceptable_ratio", absent: 0; none of the
+//   three hashed: they choose among finished runs)
 #include <cstdint>
 #include <optional>
 #include <string>
