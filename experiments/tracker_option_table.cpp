@@ -214,7 +214,7 @@ std::vector<TrackerOption> build_table() {
       integer("problem.affine_brightness", "--affine-brightness", -1, 1,
               "1: r_I = I_2 - (a I_1 + b), the brightness change (a, b) refit wherever r_I and r_D are "
               "weighed together (auto-exposure, gain steps; not on F_I alone); 0: r_I as defined; -1 the "
-              "method's own (1 for joint, else 0)",
+              "method's own (1 for joint and robust, else 0)",
               BIVO_FIELD(problem.affine_brightness)),
       number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "

@@ -160,7 +160,7 @@ int method_depth_noise_exponent(Method method, int requested) {
 
 int method_affine_brightness(Method method, int requested) {
   if (requested >= 0) return requested;
-  return method == Method::kJoint ? 1 : 0;
+  return uses_joint_weights(method) ? 1 : 0;
 }
 
 double method_joint_tolerance(Method method, double requested) {

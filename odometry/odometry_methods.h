@@ -98,7 +98,7 @@ struct PolicyParameters {
   // scaled down: where the image has texture the depth objective counts less (a biased depth
   // image pulls the estimate less), where it has none S_II / S_DD is large and depth still
   // decides. Chosen by leave-one-sequence-out (docs/results/robust.md).
-  double robust_kappa = 0.3;
+  double robust_kappa = 0.5;
   // method robust: the relative merit change that ends the finest level (joint_tolerance ends
   // the coarser ones). A speed setting, chosen held out under the CPU budget of 1.3x weighted
   // at 640x480 (`bivo loso --cost-budget 1.3`; docs/results/robust.md, "Cost"): 1e-5 costs
@@ -156,10 +156,10 @@ JacobianKind method_jacobian(Method method, JacobianKind requested, bool finest_
 // chosen with).
 int method_depth_noise_exponent(Method method, int requested);
 // The affine brightness (RgbdProblemOptions::affine_brightness) a method uses when asked for -1
-// ("auto", the tracker's default); any other request is returned unchanged. joint: 1 (its
-// t-scale of r_I otherwise grows with every exposure change, and with it lambda = S_II / S_DD:
-// depth is trusted the more the brighter the step; chosen by leave-one-sequence-out,
-// docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
+// ("auto", the tracker's default); any other request is returned unchanged. joint and robust:
+// 1 (their t-scale of r_I otherwise grows with every exposure change, and with it lambda =
+// S_II / S_DD: depth is trusted the more the brighter the step; chosen by leave-one-sequence-
+// out, docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
 int method_affine_brightness(Method method, int requested);
 // The photometric start (PolicyParameters::photometric_start_levels) a method uses when asked
 // for -1 ("auto", the default); any other request is returned unchanged. joint: 3, robust

@@ -117,10 +117,10 @@ TEST(AffineBrightness, TrackerFindsTheMotionDespiteTheBrightnessChange) {
   EXPECT_EQ(error_of("single", 1), error_of("single", 0));
 }
 
-TEST(AffineBrightness, AutoIsOnForJointOnlyAndTheProblemNeedsItResolved) {
+TEST(AffineBrightness, AutoIsOnForJointAndRobustOnlyAndTheProblemNeedsItResolved) {
   for (const std::string& m : method_names()) {
     const Method method = parse_method(m);
-    EXPECT_EQ(method_affine_brightness(method, -1), method == Method::kJoint ? 1 : 0) << m;
+    EXPECT_EQ(method_affine_brightness(method, -1), method == Method::kJoint || method == Method::kRobust ? 1 : 0) << m;
     EXPECT_EQ(method_affine_brightness(method, 0), 0) << m;  // a request is kept
     EXPECT_EQ(method_affine_brightness(method, 1), 1) << m;
   }
