@@ -113,7 +113,7 @@ std::vector<TrackerOption> build_table() {
              BIVO_FIELD(policy.guard), "noise-bounded"),
       or_minus_one(number("policy.joint_tolerance", "--joint-tolerance", 0.0, kInf,
                           "relative merit change that ends a level (instead of --decrease-tolerance; -1: the method's "
-                          "own, joint 1e-3, robust 1e-5)",
+                          "own, joint 1e-3, robust 1e-4)",
                           BIVO_FIELD(policy.joint_tolerance), "joint")),
       number("policy.relaxed_tolerance", "--relaxed-tolerance", 0.0, kInf,
              "relative merit change to which a relaxed level's photometric solution is finished",

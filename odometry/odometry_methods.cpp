@@ -165,7 +165,8 @@ int method_affine_brightness(Method method, int requested) {
 
 double method_joint_tolerance(Method method, double requested) {
   if (requested >= 0.0) return requested;
-  return method == Method::kJoint ? 1e-3 : 1e-5;
+  if (method == Method::kJoint) return 1e-3;
+  return method == Method::kRobust ? 1e-4 : 1e-5;
 }
 
 int method_photometric_start_levels(Method method, int requested) {

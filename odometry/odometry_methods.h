@@ -167,8 +167,8 @@ int method_affine_brightness(Method method, int requested);
 // (docs/results/defaults.md, "Held out").
 int method_photometric_start_levels(Method method, int requested);
 // The level tolerance (PolicyParameters::joint_tolerance) a method uses when asked for -1
-// ("auto", the default); any other request is returned unchanged. joint: 1e-3, robust (and
-// the methods that ignore it): 1e-5; each chosen by leave-one-sequence-out
+// ("auto", the default); any other request is returned unchanged. joint: 1e-3, robust: 1e-4
+// (the methods that ignore it: 1e-5); each chosen by leave-one-sequence-out
 // (docs/results/defaults.md, "Held out").
 double method_joint_tolerance(Method method, double requested);
 // The step extrapolation cap (TrackerOptions::step_extrapolation) a method uses when asked for

@@ -26,6 +26,10 @@ bool same(const PairResult& a, const PairResult& b) {
 TEST(RobustFinestLevel, ExtrapolationAutoIsRobustsOwn) {
   EXPECT_EQ(TrackerOptions{}.step_extrapolation, -1.0);
   EXPECT_EQ(method_step_extrapolation(Method::kRobust, -1.0), 1.9);
+  // The coarser levels' tolerance (chosen held out): robust's own, joint's own, a request kept.
+  EXPECT_EQ(method_joint_tolerance(Method::kRobust, -1.0), 1e-4);
+  EXPECT_EQ(method_joint_tolerance(Method::kJoint, -1.0), 1e-3);
+  EXPECT_EQ(method_joint_tolerance(Method::kRobust, 1e-5), 1e-5);
   for (const Method m : {Method::kSingle, Method::kWeighted, Method::kJoint, Method::kNoiseBounded}) {
     EXPECT_EQ(method_step_extrapolation(m, -1.0), 1.0) << to_string(m);
   }
@@ -65,6 +69,7 @@ TEST(RobustFinestLevel, TheDefaultRunIsTheRunWithRobustsOwnSettings) {
   const PairResult by_default = run(o);
   TrackerOptions asked = o, no_extrapolation = o, tight = o, inverse = o, tracker_step = o;
   asked.step_extrapolation = 1.9;
+  asked.policy.joint_tolerance = 1e-4;  // the coarser levels'
   asked.policy.robust_finest_tolerance = 1e-3;
   asked.policy.robust_finest_step_tolerance = 2e-5;
   tracker_step.policy.robust_finest_step_tolerance = 1e-2;  // the first step ends the finest level
