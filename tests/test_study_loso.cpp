@@ -271,6 +271,14 @@ TEST(LosoStudy, ABadParameterIsRefusedWhenPlanned) {
   EXPECT_NE(r.err.find("cost budget must be finite and >= 0 (0: none), got -1"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(root / "budget.json"));
   r = shell(bivo_cli() + " plan loso" + flags + q(root / "budget.json") + " --parameter trust --grid 100 1000" +
+                " --acceptable-ratio -2",
+            root);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("acceptable ratio must be finite and >= 0 (0: the smallest worst ratio decides), got -2"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(root / "budget.json"));
+  r = shell(bivo_cli() + " plan loso" + flags + q(root / "budget.json") + " --parameter trust --grid 100 1000" +
                 " --methods weighted --cost-budget 1.3",
             root);
   ASSERT_EQ(r.status, 0) << r.err;

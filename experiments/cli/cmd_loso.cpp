@@ -94,7 +94,6 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
   cmd->add_option("--acceptable-ratio", a->o.acceptable_ratio,
                   "settings whose worst ratio to --reference on the other sequences is at most this are chosen by "
                   "the geometric mean of their per-sequence worst ratios (0: the smallest worst ratio always decides)")
-      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
