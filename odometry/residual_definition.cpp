@@ -112,9 +112,18 @@ solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLeve
   double J[6];
   for (Eigen::Index k = 0; k < n; ++k) {
     out.w(k) = weights[k];
-    ctx.warp(ref.x[k], ref.y[k], ref.z[k], options.gain * ref.intensity[k] + options.offset, w);
+    const double i1 = ref.intensity[k];
+    ctx.warp(ref.x[k], ref.y[k], ref.z[k], options.gain * i1 + options.offset, w);
     if (!(depth ? w.valid_d : w.valid_i)) continue;
     out.r(k) = depth ? w.r_d : w.r_i;
+    const bool radial = !depth && options.radial != 0.0;
+    double xn = 0.0, yn = 0.0;
+    if (radial) {
+      xn = w.qx / w.qz;
+      yn = w.qy / w.qz;
+      const double rx = ref.x[k] / ref.z[k], ry = ref.y[k] / ref.z[k];
+      out.r(k) -= options.radial * i1 * (xn * xn + yn * yn - rx * rx - ry * ry);
+    }
     if (depth && options.depth_noise_exponent != 0) out.r(k) *= std::pow(1.0 / ref.z[k], options.depth_noise_exponent);
     if (!with_jacobian) continue;
     double gu = depth ? w.gd_u : w.gi_u, gv = depth ? w.gd_v : w.gi_v;
@@ -122,6 +131,11 @@ solvers::ResidualData double_residuals(const ReferenceTerms& ref, const RgbdLeve
     if (reference_g) {
       gu = own * (gu + ref_gu[k]);
       gv = own * (gv + ref_gv[k]);
+    }
+    if (radial) {
+      // -radial I_1 rho_y^2: fx d/du = -2 radial I_1 x_n, fy d/dv = -2 radial I_1 y_n.
+      gu -= 2.0 * options.radial * i1 * xn;
+      gv -= 2.0 * options.radial * i1 * yn;
     }
     jacobian_row(w.qx, w.qy, w.qz, gu, gv, depth, J);
     for (int c = 0; c < 6; ++c) out.J(k, c) = J[c];

@@ -74,24 +74,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
                 " / depth " + size(cd) + ")");
   }
   if (ri.width < 2 || ri.height < 2) throw Error(level + " is too small (" + size(ri) + ")");
-  if (!(options_.min_depth > 0.0) || !(options_.max_depth > options_.min_depth)) {
-    throw Error("RGB-D problem: depth range [" + std::to_string(options_.min_depth) + ", " +
-                std::to_string(options_.max_depth) + "] is empty or not positive");
-  }
-  if (options_.threads < 1) throw Error("RGB-D problem: threads must be >= 1, got " + std::to_string(options_.threads));
-  if (options_.depth_noise_exponent < 0 || options_.depth_noise_exponent > 3) {
-    throw Error(
-        "RGB-D problem: depth noise exponent must be 0, 1, 2 or 3 (-1 'auto': resolve it first, "
-        "method_depth_noise_exponent()), got " +
-        std::to_string(options_.depth_noise_exponent));
-  }
-  if (options_.affine_brightness != 0 && options_.affine_brightness != 1) {
-    throw Error("RGB-D problem: affine brightness must be 0 or 1 (-1 'auto': resolve it first), got " +
-                std::to_string(options_.affine_brightness));
-  }
-  if (options_.jacobian == JacobianKind::kMethodDefault) {
-    throw Error("RGB-D problem: Jacobian kind 'auto' names a method's default; resolve it first (method_jacobian())");
-  }
+  check_problem_options(options_);
   gradients_ = gradient_source(options_.jacobian);
   // Everything that does not depend on the pose, once per (pair, level): the iterations then
   // only transform, project, interpolate and accumulate.
@@ -107,6 +90,11 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   for (auto* v : {&r_i_, &r_d_, &gi_u_, &gi_v_, &gd_u_, &gd_v_, &w_i_, &w_d_}) {
     v->reset(n);
     v->fill_from(reference_terms_.count, 0.0f);
+  }
+  if (options_.affine_brightness == 2) {
+    q_.reset(n);
+    q_.fill_from(0, 0.0f);
+    rho2_ = squared_radii(reference_terms_.view(), n);
   }
   flag_storage_.reset((n + sizeof(float) - 1) / sizeof(float));
   stats_.terms = num_terms();
@@ -172,6 +160,7 @@ TermBuffers RgbdOdometryProblem::buffers() {
   b.flags = flags();
   b.w_i = w_i_.data();
   b.w_d = w_d_.data();
+  if (options_.affine_brightness == 2) b.q = q_.data();
   return b;
 }
 
@@ -191,6 +180,8 @@ WarpParams RgbdOdometryProblem::warp_params(const Eigen::VectorXd& x, ObjectiveM
   p.gradients = gradients_;
   p.gain = static_cast<float>(stats_.brightness_gain);
   p.offset = static_cast<float>(stats_.brightness_offset);
+  p.radial = static_cast<float>(stats_.brightness_radial);
+  if (options_.affine_brightness == 2) p.rho2 = rho2_.data();
   return p;
 }
 
@@ -213,18 +204,23 @@ void RgbdOdometryProblem::warp_all(const Eigen::VectorXd& x, ObjectiveMask mask,
 }
 
 void RgbdOdometryProblem::refit_brightness(WarpSums& at) {
+  BrightnessFit fit;
+  fit.intensity = reference_terms_.intensity.data();
+  fit.weighted = weights_mask_.intensity;
+  fit.radial = options_.affine_brightness == 2;
+  const RadialPrior prior{options_.radial_prior, stats_.brightness_radial};
   const BrightnessCorrection c =
-      refit_stored_brightness(*kernels_, reference_terms_.intensity.data(), buffers(), r_i_.size(),
-                              weights_mask_.intensity, options_.threads, at.ss_i);
+      refit_stored_brightness(*kernels_, fit, prior, buffers(), r_i_.size(), options_.threads, at.ss_i);
   if (!c.valid) return;
   stats_.brightness_gain += c.gain;
   stats_.brightness_offset += c.offset;
+  stats_.brightness_radial += c.radial;
   f_at_warp_.reset();
 }
 
 void RgbdOdometryProblem::estimate_weights(ObjectiveMask mask, WarpSums& at) {
   last_linearization_.reset();
-  if (options_.affine_brightness == 1 && mask.intensity && mask.depth) refit_brightness(at);
+  if (options_.affine_brightness != 0 && mask.intensity && mask.depth) refit_brightness(at);
   const std::size_t n = reference_terms_.count;
   if (options_.joint_weights && mask.intensity && mask.depth) {
     // Method joint: ONE weight per pixel from (r_I, r_D) and the 2x2 scale S (joint_weights.h),
@@ -302,6 +298,7 @@ solvers::Linearization RgbdOdometryProblem::linearize(const Eigen::VectorXd& x,
     p.pose = pose_of(x);
     p.objectives = mask;
     p.depth_noise_exponent = options_.depth_noise_exponent;
+    p.radial = static_cast<float>(stats_.brightness_radial);
     const bool reference_g = gradients_ == GradientSource::kReference;
     p.gi_u = reference_g ? reference_terms_.gi_u.data() : gi_u_.data();
     p.gi_v = reference_g ? reference_terms_.gi_v.data() : gi_v_.data();

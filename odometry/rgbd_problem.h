@@ -57,8 +57,15 @@ struct RgbdProblemOptions {
   // gain steps are a brightness change, not photometric noise: without it the t-scale of r_I
   // absorbs them). Not on F_I alone, which cannot tell a brightness change from motion where
   // the image is smooth (a shifted ramp is an offset); r_D fixes the motion. 0: r_I as defined.
+  // 2: also a camera-fixed radial fall-off, r_I = I_2(y) - ((a + c (rho_y^2 - rho_x^2)) I_1(x)
+  // + b), rho the normalized distance to the principal point (affine_brightness.h): vignetting
+  // moves with the camera, so without c it pulls F_I toward no motion where texture is weak.
   // -1 ("auto", the tracker's default) names the method's own (method_affine_brightness()).
   int affine_brightness = 0;
+  // With affine_brightness 2: the fit of c also minimizes radial_prior (sum of the weights) c^2,
+  // a ridge toward no fall-off, so that c stays near 0 unless the pair's motion shows it
+  // (q^2 well above radial_prior on average); in gray levels^2. 0: c as the data alone fit it.
+  double radial_prior = 0.0;
   // false: F_1 = F_I, F_2 = F_D (the paper's order). true: F_1 = F_D, F_2 = F_I, so the
   // weighted sum with lambda = 0 minimizes the depth objective alone (method "depth").
   bool depth_first = false;
@@ -79,6 +86,10 @@ struct RgbdProblemOptions {
   double min_valid_fraction = 0.5;
 };
 
+// Throws bivo::Error naming the first option of o out of its range ("auto" values included:
+// the tracker resolves them first).
+void check_problem_options(const RgbdProblemOptions& o);
+
 // What the latest linearize() saw (weights and scale are those of that call).
 struct RgbdLinearizationStats {
   int terms = 0;                                              // reference pixels with valid depth (rows of r_I, r_D)
@@ -89,6 +100,7 @@ struct RgbdLinearizationStats {
   JointScale joint_scale;                                     // options.joint_weights: the scale matrix S (else zero)
   double f_intensity = 0.0, f_depth = 0.0;                    // F_I, F_D at x (0 when not modelled)
   double brightness_gain = 1.0, brightness_offset = 0.0;      // (a, b) of affine_brightness
+  double brightness_radial = 0.0;                             // c of affine_brightness 2
 };
 
 class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
@@ -142,11 +154,12 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   void warp_all(const Eigen::VectorXd& x, ObjectiveMask mask, bool weighted_sums);
   // Scales of the objectives in `mask` from the residuals in the buffers -> model_.
   void estimate_weights(ObjectiveMask mask, WarpSums& at);
-  // affine_brightness: (a, b) refit to the stored r_I, the stored r_I (and at.ss_i) corrected.
+  // affine_brightness: (a, b) (and c) refit to the stored r_I, the stored r_I (and at.ss_i) corrected.
   void refit_brightness(WarpSums& at);
   DoublePathOptions double_path_options() const {
-    return {options_.occlusion_margin, gradients_, options_.depth_noise_exponent, stats_.brightness_gain,
-            stats_.brightness_offset};
+    return {options_.occlusion_margin,     gradients_,
+            options_.depth_noise_exponent, stats_.brightness_gain,
+            stats_.brightness_offset,      stats_.brightness_radial};
   }
   // Weights of the objectives in `mask` estimated at x unless some already exist.
   void ensure_weights(const Eigen::VectorXd& x, ObjectiveMask mask);
@@ -168,6 +181,7 @@ class RgbdOdometryProblem final : public solvers::BiObjectiveProblem {
   // Pooled (pooled_floats.h): not initialized beyond the zeroed padding; every pass writes
   // an entry before any pass reads it.
   PooledFloats r_i_, r_d_, gi_u_, gi_v_, gd_u_, gd_v_, w_i_, w_d_;
+  PooledFloats q_, rho2_;  // affine_brightness 2: the radial regressor per term, rho_x^2 per reference term
   // The validity flags, one byte per term, four to a float of a pooled block (a vector of
   // bytes was faulted in and zeroed afresh for every pair); the warp writes every entry.
   PooledFloats flag_storage_;

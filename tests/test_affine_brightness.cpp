@@ -1,12 +1,15 @@
-// The affine brightness (RgbdProblemOptions::affine_brightness): r_I = I_2(y) - (a I_1(x) + b)
+// The brightness model (RgbdProblemOptions::affine_brightness): r_I = I_2(y) - (a I_1(x) + b)
 // with (a, b) refit at every weight stage, against a pair whose current image is the reference
 // scene's brightened by a known gain and offset (closed form), the double path, and the methods'
-// defaults.
+// defaults; with its radial term (2), against a pair whose images share a known fall-off.
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "odometry/affine_brightness.h"
 #include "odometry/odometry_methods.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/tracker.h"
@@ -21,6 +24,8 @@ using bivo::testing::kK;
 using bivo::testing::near_truth;
 using bivo::testing::rel;
 using bivo::testing::render_plane;
+using bivo::testing::scene;
+using bivo::testing::vignette;
 
 namespace {
 
@@ -41,6 +46,27 @@ struct BrightenedScene {
 
 const BrightenedScene& brightened() {
   static const BrightenedScene s;
+  return s;
+}
+
+// The plane scene's pair, both images with the fall-off 1 - kFallOff rho^2 (11 % at the
+// corners): I_2(y) = I_1(x) (1 - k rho_y^2) / (1 - k rho_x^2) at the true motion, c ~ -k.
+constexpr double kFallOff = 0.2;
+struct VignettedScene {
+  PreparedFrame reference, current;
+  Eigen::Isometry3d T_21;
+  VignettedScene() {
+    io::RgbdImage first = render_plane(Eigen::Isometry3d::Identity()), second = render_plane(camera2());
+    vignette(first, kFallOff);
+    vignette(second, kFallOff);
+    reference = prepare_frame(first, kK, 3);
+    current = prepare_frame(second, kK, 3);
+    T_21 = camera2().inverse();
+  }
+};
+
+const VignettedScene& vignetted() {
+  static const VignettedScene s;
   return s;
 }
 
@@ -97,6 +123,92 @@ TEST(AffineBrightness, FloatModelsMatchTheDoublePath) {
   EXPECT_LT(rel(lin.f1.H, want.H), 2e-4);
 }
 
+// At the true motion the radial term takes the shared fall-off: c ~ -k (to first order in k),
+// a ~ 1, and F_I falls to what the unvignetted pair leaves under (a, b) alone, with every
+// instruction set's kernels.
+TEST(AffineBrightness, RadialTermRecoversTheFallOffAtTheTrueMotion) {
+  const RgbdLevel& a = vignetted().reference.pyramid.levels[0];
+  const RgbdLevel& b = vignetted().current.pyramid.levels[0];
+  const Eigen::VectorXd x = se3::to_ambient(vignetted().T_21);
+  RgbdOdometryProblem clean(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0], unit_weights(1));
+  clean.linearize(x, {});
+  const double f_clean = clean.evaluate(x)[0];
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    RgbdOdometryProblem radial(a, b, unit_weights(2)), affine(a, b, unit_weights(1));
+    radial.set_kernel_isa(isa);
+    affine.set_kernel_isa(isa);
+    radial.linearize(x, {});
+    affine.linearize(x, {});
+    EXPECT_NEAR(radial.last_stats().brightness_radial, -kFallOff, 0.02);
+    EXPECT_NEAR(radial.last_stats().brightness_gain, 1.0, 5e-3);
+    EXPECT_EQ(affine.last_stats().brightness_radial, 0.0);
+    const double f_radial = radial.evaluate(x)[0], f_affine = affine.evaluate(x)[0];
+    std::printf("[ radial ] F_I at the truth: %.4g radial, %.4g affine, %.4g unvignetted\n", f_radial, f_affine,
+                f_clean);
+    EXPECT_LT(f_radial, 1.5 * f_clean);
+    EXPECT_GT(f_affine, 3.0 * f_radial);
+  }
+}
+
+// At the identity (q = 0: no motion shows no fall-off) the radial term is not fitted.
+TEST(AffineBrightness, RadialTermIsLeftAtZeroWhereItCannotBeSeen) {
+  RgbdOdometryProblem p(vignetted().reference.pyramid.levels[0], vignetted().reference.pyramid.levels[0],
+                        unit_weights(2));
+  p.linearize(se3::to_ambient(Eigen::Isometry3d::Identity()), {});
+  EXPECT_EQ(p.last_stats().brightness_radial, 0.0);
+  EXPECT_NEAR(p.last_stats().brightness_gain, 1.0, 1e-6);
+}
+
+// The ridge on c (radial_prior): the fit of sums built from r = 2 x + 3 + 0.5 q recovers
+// (2, 3 - 2 centre, 0.5) without it; with it, q orthogonal to (x, 1), the closed form of the
+// ridge c_0 + dc = (sum w q r + c_0 sum w q^2) / (sum w q^2 + gamma sum w) from the present
+// c_0; a huge gamma pins c at 0.
+TEST(AffineBrightness, RadialPriorIsARidgeTowardNoFallOff) {
+  BrightnessSums s;
+  const double xs[4] = {-1.0, 1.0, -1.0, 1.0}, qs[4] = {-1.0, -1.0, 1.0, 1.0};  // x, q, 1 orthogonal
+  for (int k = 0; k < 4; ++k) {
+    const double x = xs[k], q = qs[k], r = 2.0 * x + 3.0 + 0.5 * q;
+    s.w += 1.0;
+    s.wx += x;
+    s.wxx += x * x;
+    s.wr += r;
+    s.wxr += x * r;
+    s.wq += q;
+    s.wxq += x * q;
+    s.wqq += q * q;
+    s.wqr += q * r;
+  }
+  const BrightnessCorrection free = solve_brightness(s, true);
+  ASSERT_TRUE(free.valid);
+  EXPECT_NEAR(free.gain, 2.0, 1e-12);
+  EXPECT_NEAR(free.offset, 3.0 - 2.0 * kBrightnessCentre, 1e-9);
+  EXPECT_NEAR(free.radial, 0.5, 1e-12);
+  EXPECT_EQ(solve_brightness(s, false).radial, 0.0);
+  const double gamma = 3.0, c0 = -0.2;  // present c: the step is toward the ridge's optimum
+  const BrightnessCorrection ridge = solve_brightness(s, true, {gamma, c0});
+  EXPECT_NEAR(c0 + ridge.radial, (s.wqr + c0 * s.wqq) / (s.wqq + gamma * s.w), 1e-12);
+  EXPECT_NEAR(ridge.gain, 2.0, 1e-12);  // q orthogonal to (x, 1): (a, b) unchanged
+  EXPECT_NEAR(c0 + solve_brightness(s, true, {1e12, c0}).radial, 0.0, 1e-9);
+}
+
+// The float kernels and the double path apply the same radial term, in r_I and its Jacobian.
+TEST(AffineBrightness, RadialFloatModelsMatchTheDoublePath) {
+  RgbdProblemOptions o;
+  o.affine_brightness = 2;
+  RgbdOdometryProblem p(vignetted().reference.pyramid.levels[0], vignetted().current.pyramid.levels[0], o);
+  solvers::LinearizeOptions full;
+  full.want_full = true;
+  const Eigen::VectorXd x = near_truth();
+  const solvers::Linearization lin = p.linearize(x, full);
+  ASSERT_LT(p.last_stats().brightness_radial, -0.03);  // near, not at, the truth: less than k
+  const solvers::QuadraticModel want = solvers::quadratic_model_of(*lin.full1);
+  EXPECT_LT(std::abs(lin.f1.a - want.a), 2e-4 * want.a);
+  EXPECT_LT(rel(lin.f1.b, want.b), 2e-4);
+  EXPECT_LT(rel(lin.f1.H, want.H), 2e-4);
+}
+
 // A bi-objective method with the brightness fit finds the motion on the brightened pair as on
 // the unbrightened one; without it the brightness change pulls the estimate away. F_I alone
 // (single) does not fit it: on a smooth image a brightness change is indistinguishable from motion.
@@ -117,17 +229,45 @@ TEST(AffineBrightness, TrackerFindsTheMotionDespiteTheBrightnessChange) {
   EXPECT_EQ(error_of("single", 1), error_of("single", 0));
 }
 
+// On the vignetted pair the radial term brings the estimate back to the unvignetted pair's.
+TEST(AffineBrightness, TrackerWithTheRadialTermFindsTheMotionDespiteTheFallOff) {
+  const auto error_of = [&](const std::string& method, int affine, bool vignetting) {
+    TrackerOptions o;
+    o.method = method;
+    o.levels = 3;
+    o.problem.affine_brightness = affine;
+    const PreparedFrame& a = vignetting ? vignetted().reference : scene().reference;
+    const PreparedFrame& b = vignetting ? vignetted().current : scene().current;
+    const PairResult r = estimate_motion(a, b, Eigen::Isometry3d::Identity(), o);
+    const Eigen::Isometry3d E = vignetted().T_21.inverse() * r.T_21;
+    return E.translation().norm();
+  };
+  for (const std::string method : {"fixed", "joint"}) {
+    const double radial = error_of(method, 2, true), affine = error_of(method, 1, true);
+    const double clean = error_of(method, 1, false);
+    std::printf("[ radial ] %s translation error: %.3g radial, %.3g affine, %.3g unvignetted (m)\n", method.c_str(),
+                radial, affine, clean);
+    EXPECT_LT(radial, 1e-4) << method;
+  }
+}
+
 TEST(AffineBrightness, AutoIsOnForJointAndRobustOnlyAndTheProblemNeedsItResolved) {
   for (const std::string& m : method_names()) {
     const Method method = parse_method(m);
     EXPECT_EQ(method_affine_brightness(method, -1), method == Method::kJoint || method == Method::kRobust ? 1 : 0) << m;
     EXPECT_EQ(method_affine_brightness(method, 0), 0) << m;  // a request is kept
     EXPECT_EQ(method_affine_brightness(method, 1), 1) << m;
+    EXPECT_EQ(method_affine_brightness(method, 2), 2) << m;
   }
   const BrightenedScene& s = brightened();
-  for (const int bad : {-1, 2}) {
+  for (const int bad : {-1, 3}) {
     EXPECT_THROW(RgbdOdometryProblem(s.reference.pyramid.levels[0], s.current.pyramid.levels[0], unit_weights(bad)),
                  Error)
         << bad;
+  }
+  for (const double bad : {-1.0, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    RgbdProblemOptions o = unit_weights(2);
+    o.radial_prior = bad;
+    EXPECT_THROW(RgbdOdometryProblem(s.reference.pyramid.levels[0], s.current.pyramid.levels[0], o), Error) << bad;
   }
 }

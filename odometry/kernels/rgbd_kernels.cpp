@@ -120,6 +120,10 @@ void BrightnessSums::add(const BrightnessSums& o) {
   wxx += o.wxx;
   wr += o.wr;
   wxr += o.wxr;
+  wq += o.wq;
+  wxq += o.wxq;
+  wqq += o.wqq;
+  wqr += o.wqr;
 }
 
 void JointScaleSums::add(const JointScaleSums& o) {

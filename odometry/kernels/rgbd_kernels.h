@@ -66,6 +66,7 @@ struct TermBuffers {
   float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
   std::uint8_t* flags = nullptr;         // bit 0: r_I valid, bit 1: r_D valid
   float *w_i = nullptr, *w_d = nullptr;  // weights of the latest weight stage
+  float* q = nullptr;  // the radial brightness regressor I_1 (rho_y^2 - rho_x^2) (WarpParams::rho2 only)
 };
 
 struct WarpParams {
@@ -80,9 +81,13 @@ struct WarpParams {
   // r_D (and its Jacobian) divided by (z / 1 m)^p, z the reference term's depth: depth noise
   // that grows with depth (p = 2: Kinect-class disparity). 0: r_D as defined.
   int depth_noise_exponent = 0;
-  // r_I = I_2(y) - (gain I_1(x) + offset): the current image's brightness relative to the
-  // reference's (RgbdProblemOptions::affine_brightness); 1 and 0: r_I as defined.
-  float gain = 1.0f, offset = 0.0f;
+  // r_I = I_2(y) - ((gain + radial (rho_y^2 - rho_x^2)) I_1(x) + offset): the current image's
+  // brightness relative to the reference's (RgbdProblemOptions::affine_brightness), rho the
+  // distance to the principal point in normalized coordinates; 1, 0 and 0: r_I as defined.
+  float gain = 1.0f, offset = 0.0f, radial = 0.0f;
+  // rho_x^2 of every reference term: the radial model is on, its regressor stored in
+  // TermBuffers::q (with r_I) for the fit; null: off (radial must be 0).
+  const float* rho2 = nullptr;
   bool weighted_sums = false;  // also F_j = sum w_j r_j^2 with the weights in the buffers
   // false: only the sums (weighted_sums must be set), nothing written to the buffers, which
   // keep the previous warp: an evaluation that no linearization will reuse.
@@ -130,18 +135,30 @@ struct WeighSums {
   double f_i = 0, f_d = 0, weight_sum_i = 0, weight_sum_d = 0;
   void add(const WeighSums& o);
 };
-// The affine brightness fit (affine_brightness.h) over the terms with a valid r_I, x = I_1 -
-// kBrightnessCentre (centred: float lane sums of x^2 keep their digits), w the stored w_I or 1.
+// The brightness fit (affine_brightness.h) over the terms with a valid r_I: r on x = I_1 -
+// kBrightnessCentre (centred: float lane sums of x^2 keep their digits), 1 and, with the
+// radial term, q = I_1 (rho_y^2 - rho_x^2); w the stored w_I or 1.
 constexpr float kBrightnessCentre = 128.0f;
 struct BrightnessSums {
   double w = 0, wx = 0, wxx = 0, wr = 0, wxr = 0;
+  double wq = 0, wxq = 0, wqq = 0, wqr = 0;  // radial only
   void add(const BrightnessSums& o);
+};
+struct BrightnessFit {
+  const float* intensity = nullptr;  // I_1 of the reference terms
+  bool weighted = false;
+  bool radial = false;  // fit c too, on the stored TermBuffers::q
+};
+// The correction the fit found: r_I -= gain I_1 + offset + radial q.
+struct BrightnessStep {
+  float gain = 0.0f, offset = 0.0f, radial = 0.0f;
 };
 
 struct NormalParams {
   PoseF pose;
   ObjectiveMask objectives;
   int depth_noise_exponent = 0;  // as WarpParams
+  float radial = 0.0f;           // as WarpParams: its term's derivative joins r_I's Jacobian
   // Gradients the Jacobians use: the buffers' (current / average) or the reference's.
   const float *gi_u = nullptr, *gi_v = nullptr, *gd_u = nullptr, *gd_v = nullptr;
 };
@@ -167,11 +184,9 @@ struct KernelTable {
   ScaleSums (*t_scale_sums)(const float* r, std::size_t begin, std::size_t end, float nu, float inv_scale2);
   JointScaleSums (*joint_scale_sums)(const JointScaleParams&, const TermBuffers&, std::size_t begin, std::size_t end);
   WeighSums (*weigh)(const WeightModel&, ObjectiveMask, const TermBuffers&, std::size_t begin, std::size_t end);
-  // Sums for the brightness fit (weighted: under the stored w_I, else unit weights) and its
-  // correction r_I -= gain I_1 + offset on the valid terms, returning the new sum of r_I^2.
-  BrightnessSums (*brightness_sums)(const float* intensity, const TermBuffers&, bool weighted, std::size_t begin,
-                                    std::size_t end);
-  double (*correct_brightness)(float gain, float offset, const float* intensity, const TermBuffers&, std::size_t begin,
+  // Sums for the brightness fit and its correction of the valid r_I, returning the new sum of r_I^2.
+  BrightnessSums (*brightness_sums)(const BrightnessFit&, const TermBuffers&, std::size_t begin, std::size_t end);
+  double (*correct_brightness)(const BrightnessFit&, const BrightnessStep&, const TermBuffers&, std::size_t begin,
                                std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
                                  std::size_t begin, std::size_t end);

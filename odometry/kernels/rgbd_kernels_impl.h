@@ -69,7 +69,8 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
   const bool current_gradients = kStore && p.gradients != GradientSource::kReference;
   const bool average = p.gradients == GradientSource::kAverage;
   alignas(64) std::int32_t stage_index[kBlockTerms];  // kWidth per lane group
-  alignas(64) F stage_a[kGroups], stage_b[kGroups], stage_qz[kGroups];
+  alignas(64) F stage_a[kGroups], stage_b[kGroups], stage_qz[kGroups], stage_radial[kGroups];
+  const bool radial = want_i && p.rho2 != nullptr;
   M stage_inside[kGroups];
   WarpSums sums;
   for (std::size_t s = begin; s < end; s += kFlushTerms) {
@@ -89,6 +90,12 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         V::cell_of(u, v, inside, p.width, stage_index + g * V::kWidth, stage_a[g], stage_b[g]);
         stage_qz[g] = qz;
         stage_inside[g] = inside;
+        if (radial) {
+          // The radial brightness regressor I_1 (rho_y^2 - rho_x^2), 0 outside (q_z may be 0).
+          const F xn = qx * iz, yn = qy * iz;
+          const F d = V::fma(xn, xn, yn * yn) - V::load(p.rho2 + k);
+          stage_radial[g] = V::select(inside, V::load(ref.intensity + k) * d, zero);
+        }
       }
       for (int g = 0; g < groups; ++g) {
         const std::size_t k = bs + static_cast<std::size_t>(g) * V::kWidth;
@@ -126,8 +133,13 @@ WarpSums warp_pass(const WarpParams& p, const ReferenceArrays& ref, const TermBu
         };
         if (want_i) {
           const F i2 = lerp<V>(b, lerp<V>(a, c.i00, c.i10), lerp<V>(a, c.i01, c.i11));
-          objective(valid_i, i2 - V::fma(V::set(p.gain), V::load(ref.intensity + k), V::set(p.offset)), c.i00, c.i10,
-                    c.i01, c.i11, out.r_i, out.w_i, out.gi_u, out.gi_v, ref.gi_u, ref.gi_v, ss_i, f_i);
+          F model = V::fma(V::set(p.gain), V::load(ref.intensity + k), V::set(p.offset));
+          if (radial) {
+            model = V::fma(V::set(p.radial), stage_radial[g], model);
+            if (kStore) V::store(out.q + k, V::select(valid_i, stage_radial[g], zero));
+          }
+          objective(valid_i, i2 - model, c.i00, c.i10, c.i01, c.i11, out.r_i, out.w_i, out.gi_u, out.gi_v, ref.gi_u,
+                    ref.gi_v, ss_i, f_i);
         }
         if (want_d) {
           F r_d = d2 - qz;
@@ -377,7 +389,14 @@ NormalSums normal_equations(const NormalParams& p, const WeightModel& m, const R
         F w_i = zero, w_d = zero;
         lane_weights<V, kKind>(m, p.objectives, buf, k, valid_i, valid_d, r_i, r_d, w_i, w_d);
         if (want_i) {
-          stage_jacobian<V>(qx, qy, qz, iz, V::load(p.gi_u + k), V::load(p.gi_v + k), zero, r_i, w_i, block_i, o);
+          F gu = V::load(p.gi_u + k), gv = V::load(p.gi_v + k);
+          if (p.radial != 0.0f) {
+            // The radial term -radial I_1 rho_y^2: fx d/du = -2 radial I_1 x_n (y_n for v).
+            const F s2 = V::set(-2.0f * p.radial) * V::load(ref.intensity + k) * iz;
+            gu = V::fma(s2, qx, gu);
+            gv = V::fma(s2, qy, gv);
+          }
+          stage_jacobian<V>(qx, qy, qz, iz, gu, gv, zero, r_i, w_i, block_i, o);
         }
         if (want_d) {
           F gu = V::load(p.gd_u + k), gv = V::load(p.gd_v + k), dz = one;

@@ -50,6 +50,18 @@ inline odometry::io::RgbdImage render_plane(const Eigen::Isometry3d& T_wc, int w
   return render_plane_rows([&T_wc](int) { return T_wc; }, width, height);
 }
 
+// A camera-fixed radial fall-off (vignetting): each intensity times 1 - k rho^2, rho the
+// pixel's normalized distance to the principal point ((u - cx) / fx, (v - cy) / fy).
+inline void vignette(odometry::io::RgbdImage& im, double k) {
+  for (int v = 0; v < im.height; ++v) {
+    for (int u = 0; u < im.width; ++u) {
+      const double xn = (u - kK.cx) / kK.fx, yn = (v - kK.cy) / kK.fy;
+      float& i = im.intensity[static_cast<std::size_t>(v) * im.width + u];
+      i = static_cast<float>(i * (1.0 - k * (xn * xn + yn * yn)));
+    }
+  }
+}
+
 inline Eigen::Isometry3d camera2() {
   solvers::se3::Vector6d xi;
   xi << 0.012, -0.008, 0.015, 0.01, -0.012, 0.006;
