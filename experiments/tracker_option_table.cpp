@@ -215,11 +215,11 @@ std::vector<TrackerOption> build_table() {
               "1: r_I = I_2 - (a I_1 + b), the brightness change (a, b) refit wherever r_I and r_D are "
               "weighed together (auto-exposure, gain steps; not on F_I alone); 2: also a camera-fixed radial "
               "fall-off, (a + c (rho_2^2 - rho_1^2)) I_1 (vignetting); 0: r_I as defined; -1 the "
-              "method's own (1 for joint and robust, else 0)",
+              "method's own (2 for joint, 1 for robust, else 0)",
               BIVO_FIELD(problem.affine_brightness)),
       number("problem.radial_prior", "--radial-prior", 0.0, kInf,
              "with --affine-brightness 2: a ridge toward no fall-off, radial_prior x the sum of the weights x c^2 "
-             "joins the fit of c (gray levels^2; 0: c as the data fit it)",
+             "joins the fit of c (gray levels^2; 0: c as the data fit it; 0.3 chosen held out for joint)",
              BIVO_FIELD(problem.radial_prior)),
       number("problem.min_valid_fraction", "--min-valid-fraction", 0.0, 1.0,
              "a level whose final pose keeps fewer valid terms than this fraction of its reference terms fails "

@@ -160,7 +160,8 @@ int method_depth_noise_exponent(Method method, int requested) {
 
 int method_affine_brightness(Method method, int requested) {
   if (requested >= 0) return requested;
-  return uses_joint_weights(method) ? 1 : 0;
+  if (method == Method::kJoint) return 2;
+  return method == Method::kRobust ? 1 : 0;
 }
 
 double method_joint_tolerance(Method method, double requested) {

@@ -156,10 +156,11 @@ JacobianKind method_jacobian(Method method, JacobianKind requested, bool finest_
 // chosen with).
 int method_depth_noise_exponent(Method method, int requested);
 // The affine brightness (RgbdProblemOptions::affine_brightness) a method uses when asked for -1
-// ("auto", the tracker's default); any other request is returned unchanged. joint and robust:
+// ("auto", the tracker's default); any other request is returned unchanged. joint: 2, robust:
 // 1 (their t-scale of r_I otherwise grows with every exposure change, and with it lambda =
-// S_II / S_DD: depth is trusted the more the brighter the step; chosen by leave-one-sequence-
-// out, docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
+// S_II / S_DD: depth is trusted the more the brighter the step; joint's also fits the camera's
+// fall-off, which robust's CPU budget leaves out; chosen by leave-one-sequence-out,
+// docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
 int method_affine_brightness(Method method, int requested);
 // The photometric start (PolicyParameters::photometric_start_levels) a method uses when asked
 // for -1 ("auto", the default); any other request is returned unchanged. joint: 3, robust

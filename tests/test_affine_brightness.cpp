@@ -70,10 +70,27 @@ const VignettedScene& vignetted() {
   return s;
 }
 
+// body(isa) under every instruction set's kernels this CPU runs.
+template <class Body>
+void for_each_kernel_isa(const Body& body) {
+  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    if (!kernels_available(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    body(isa);
+  }
+}
+
+// p linearized at x (one weight stage: the brightness fit) with the kernels of isa.
+void linearize_with(RgbdOdometryProblem& p, KernelIsa isa, const Eigen::VectorXd& x) {
+  p.set_kernel_isa(isa);
+  p.linearize(x, {});
+}
+
 RgbdProblemOptions unit_weights(int affine) {
   RgbdProblemOptions o;
   o.weights.kind = WeightKind::kNone;
   o.affine_brightness = affine;
+  o.radial_prior = 0.0;  // c as the data fit it (the ridge: its own test)
   return o;
 }
 
@@ -87,14 +104,10 @@ TEST(AffineBrightness, RecoversTheGainAndOffsetAtTheTrueMotion) {
   const RgbdLevel& a = s.reference.pyramid.levels[0];
   const RgbdLevel& b = s.current.pyramid.levels[0];
   const Eigen::VectorXd x = se3::to_ambient(s.T_21);
-  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
-    if (!kernels_available(isa)) continue;
-    SCOPED_TRACE(to_string(isa));
+  for_each_kernel_isa([&](KernelIsa isa) {
     RgbdOdometryProblem fitted(a, b, unit_weights(1)), plain(a, b, unit_weights(0));
-    fitted.set_kernel_isa(isa);
-    plain.set_kernel_isa(isa);
-    fitted.linearize(x, {});
-    plain.linearize(x, {});
+    linearize_with(fitted, isa, x);
+    linearize_with(plain, isa, x);
     EXPECT_NEAR(fitted.last_stats().brightness_gain, kGain, 2e-3);
     EXPECT_NEAR(fitted.last_stats().brightness_offset, kOffset, 0.3);
     EXPECT_EQ(plain.last_stats().brightness_gain, 1.0);
@@ -103,7 +116,7 @@ TEST(AffineBrightness, RecoversTheGainAndOffsetAtTheTrueMotion) {
     const double f_fitted = fitted.evaluate(x)[0], f_plain = plain.evaluate(x)[0];
     EXPECT_LT(f_fitted, 1e-2 * f_plain);
     EXPECT_GT(f_plain, 9.0 * fitted.last_stats().valid_intensity);
-  }
+  });
 }
 
 // The float kernels and the double path (residuals(), full data) apply the same (a, b).
@@ -133,14 +146,10 @@ TEST(AffineBrightness, RadialTermRecoversTheFallOffAtTheTrueMotion) {
   RgbdOdometryProblem clean(scene().reference.pyramid.levels[0], scene().current.pyramid.levels[0], unit_weights(1));
   clean.linearize(x, {});
   const double f_clean = clean.evaluate(x)[0];
-  for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
-    if (!kernels_available(isa)) continue;
-    SCOPED_TRACE(to_string(isa));
+  for_each_kernel_isa([&](KernelIsa isa) {
     RgbdOdometryProblem radial(a, b, unit_weights(2)), affine(a, b, unit_weights(1));
-    radial.set_kernel_isa(isa);
-    affine.set_kernel_isa(isa);
-    radial.linearize(x, {});
-    affine.linearize(x, {});
+    linearize_with(radial, isa, x);
+    linearize_with(affine, isa, x);
     EXPECT_NEAR(radial.last_stats().brightness_radial, -kFallOff, 0.02);
     EXPECT_NEAR(radial.last_stats().brightness_gain, 1.0, 5e-3);
     EXPECT_EQ(affine.last_stats().brightness_radial, 0.0);
@@ -149,7 +158,7 @@ TEST(AffineBrightness, RadialTermRecoversTheFallOffAtTheTrueMotion) {
                 f_clean);
     EXPECT_LT(f_radial, 1.5 * f_clean);
     EXPECT_GT(f_affine, 3.0 * f_radial);
-  }
+  });
 }
 
 // At the identity (q = 0: no motion shows no fall-off) the radial term is not fitted.
@@ -197,6 +206,7 @@ TEST(AffineBrightness, RadialPriorIsARidgeTowardNoFallOff) {
 TEST(AffineBrightness, RadialFloatModelsMatchTheDoublePath) {
   RgbdProblemOptions o;
   o.affine_brightness = 2;
+  o.radial_prior = 0.0;
   RgbdOdometryProblem p(vignetted().reference.pyramid.levels[0], vignetted().current.pyramid.levels[0], o);
   solvers::LinearizeOptions full;
   full.want_full = true;
@@ -251,10 +261,13 @@ TEST(AffineBrightness, TrackerWithTheRadialTermFindsTheMotionDespiteTheFallOff) 
   }
 }
 
-TEST(AffineBrightness, AutoIsOnForJointAndRobustOnlyAndTheProblemNeedsItResolved) {
+TEST(AffineBrightness, AutoIsRadialForJointAffineForRobustAndTheProblemNeedsItResolved) {
   for (const std::string& m : method_names()) {
     const Method method = parse_method(m);
-    EXPECT_EQ(method_affine_brightness(method, -1), method == Method::kJoint || method == Method::kRobust ? 1 : 0) << m;
+    EXPECT_EQ(method_affine_brightness(method, -1), method == Method::kJoint    ? 2
+                                                    : method == Method::kRobust ? 1
+                                                                                : 0)
+        << m;
     EXPECT_EQ(method_affine_brightness(method, 0), 0) << m;  // a request is kept
     EXPECT_EQ(method_affine_brightness(method, 1), 1) << m;
     EXPECT_EQ(method_affine_brightness(method, 2), 2) << m;

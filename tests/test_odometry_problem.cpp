@@ -143,6 +143,7 @@ TEST(RgbdProblem, RadialBrightnessJacobiansMatchCentralDifferences) {
   const RgbdPyramid a = build_pyramid(first, bivo::testing::kK, 1), b = build_pyramid(second, bivo::testing::kK, 1);
   RgbdProblemOptions o;
   o.affine_brightness = 2;
+  o.radial_prior = 0.0;
   RgbdOdometryProblem problem(a.levels[0], b.levels[0], o);
   const Eigen::VectorXd x = bivo::testing::near_truth();
   problem.linearize(x, {});
