@@ -16,7 +16,7 @@ namespace bivo::odometry {
 struct DoublePathOptions {
   double occlusion_margin = 0.1;
   GradientSource gradients = GradientSource::kCurrent;
-  int depth_noise_exponent = 0;     // r_D and its Jacobian times (1 / z)^p, z the reference depth
+  int depth_noise_exponent = 0;  // r_D and its Jacobian times (1 / z)^p, z the reference depth
   // r_I = I_2(y) - ((gain + radial (rho_y^2 - rho_x^2)) I_1(x) + offset) (WarpParams)
   double gain = 1.0, offset = 0.0, radial = 0.0;
 };
