@@ -217,7 +217,7 @@ std::vector<TrackerOption> build_table() {
               "fall-off, (a + c (rho_2^2 - rho_1^2)) I_1 (vignetting); 0: r_I as defined; -1 the "
               "method's own (2 for joint, 1 for robust, else 0)",
               BIVO_FIELD(problem.affine_brightness)),
-      number("problem.radial_prior", "--radial-prior", 0.0, kInf,
+      number("problem.radial_prior", "--radial-prior", 0.0, 1e6,
              "with --affine-brightness 2: a ridge toward no fall-off, radial_prior x the sum of the weights x c^2 "
              "joins the fit of c (gray levels^2; 0: c as the data fit it; 0.3 chosen held out for joint)",
              BIVO_FIELD(problem.radial_prior)),
