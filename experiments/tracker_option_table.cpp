@@ -178,6 +178,11 @@ std::vector<TrackerOption> build_table() {
                           "images moved to their timestamps (the middle row's) with the pair's first estimate "
                           "(0: global shutter; -1: the readout the sequence states in scene.json, else 0)",
                           BIVO_FIELD(readout_time))),
+      or_minus_one(
+          integer("correction_rounds", "--correction-rounds", 1, 10,
+                  "with frames corrected (--readout-time, --retime-depth): times the pair is estimated "
+                  "again on frames corrected with its latest estimate (-1: the method's own, 2 for joint, else 1)",
+                  BIVO_FIELD(correction_rounds))),
       other(T::kBoolean, "evaluate_unused_objective", "--evaluate-unused-objective",
             "single/depth: also evaluate the objective not optimized, at each level's end",
             BIVO_FIELD(evaluate_unused_objective)),

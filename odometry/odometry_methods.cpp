@@ -170,6 +170,11 @@ double method_joint_tolerance(Method method, double requested) {
   return method == Method::kRobust ? 1e-4 : 1e-5;
 }
 
+int method_correction_rounds(Method method, int requested) {
+  if (requested >= 1) return requested;
+  return method == Method::kJoint ? 2 : 1;
+}
+
 int method_photometric_start_levels(Method method, int requested) {
   if (requested >= 0) return requested;
   return method == Method::kJoint ? 3 : 1;

@@ -417,39 +417,46 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
   const bool retime = (options.retime_depth == 1 || unroll) &&
                       (reference.pyramid.depth_delay != 0.0 || current.pyramid.depth_delay != 0.0);
   if (!(interval > 0.0) || (!retime && !unroll)) return estimate_once(reference, current, initial, options);
-  // Estimated on the frames as given, then on their images moved to their timestamps from there.
-  PairResult first = estimate_once(reference, current, initial, options);
-  if (!first.valid) return first;
-  const auto t0 = Clock::now();
-  const double cpu0 = process_cpu_seconds();
-  // The velocity at each frame's time: linear through the pair before (when known) and this one.
+  // Estimated on the frames as given, then on their images moved to their timestamps from the
+  // latest estimate, TrackerOptions::correction_rounds times.
+  PairResult latest = estimate_once(reference, current, initial, options);
   const double middle = reference.pyramid.timestamp + 0.5 * interval;
-  const se3::Vector6d velocity = se3::log(first.T_21) / interval;
   const bool before = reference.arrival_velocity && reference.arrival_time < middle;
-  const se3::Vector6d acceleration =
-      before ? se3::Vector6d((velocity - *reference.arrival_velocity) / (middle - reference.arrival_time))
-             : se3::Vector6d::Zero();
-  const auto corrected = [&](const PreparedFrame& f) {
-    PreparedFrame r;
-    const se3::Vector6d at_frame = velocity + (f.pyramid.timestamp - middle) * acceleration;
-    r.pyramid = pyramid_at_timestamp(f.pyramid, at_frame, retime, options.readout_time);
-    r.statistics = f.statistics;
-    r.has_statistics = f.has_statistics;
-    return r;
-  };
-  const PreparedFrame reference_corrected = corrected(reference), current_corrected = corrected(current);
-  const double correct_seconds = seconds_since(t0), correct_cpu = process_cpu_seconds() - cpu0;
-  PairResult second = estimate_once(reference_corrected, current_corrected, first.T_21, options);
-  if (!second.valid) {  // the first estimate stands, not the prior the second fell back to
-    first.note += std::string(first.note.empty() ? "" : "; ") + "on corrected frames: " + second.note;
-    return first;
+  const int rounds = method_correction_rounds(parse_method(options.method), options.correction_rounds);
+  for (int round = 0; round < rounds && latest.valid; ++round) {
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    // The velocity at each frame's time: linear through the pair before (when known) and this one.
+    const se3::Vector6d velocity = se3::log(latest.T_21) / interval;
+    const se3::Vector6d acceleration =
+        before ? se3::Vector6d((velocity - *reference.arrival_velocity) / (middle - reference.arrival_time))
+               : se3::Vector6d::Zero();
+    const auto corrected = [&](const PreparedFrame& f) {
+      PreparedFrame r;
+      const se3::Vector6d at_frame = velocity + (f.pyramid.timestamp - middle) * acceleration;
+      r.pyramid = pyramid_at_timestamp(f.pyramid, at_frame, retime, options.readout_time);
+      r.statistics = f.statistics;
+      r.has_statistics = f.has_statistics;
+      return r;
+    };
+    const PreparedFrame reference_corrected = corrected(reference), current_corrected = corrected(current);
+    const double correct_seconds = seconds_since(t0), correct_cpu = process_cpu_seconds() - cpu0;
+    PairResult next = estimate_once(reference_corrected, current_corrected, latest.T_21, options);
+    if (!next.valid) {  // the latest estimate stands, not the prior this round fell back to
+      latest.note += std::string(latest.note.empty() ? "" : "; ") + "on corrected frames: " + next.note;
+      latest.seconds += correct_seconds + next.seconds;
+      latest.cpu_seconds += correct_cpu + next.cpu_seconds;
+      latest.iterations += next.iterations;
+      return latest;
+    }
+    next.iterations += latest.iterations;
+    next.seconds += latest.seconds + correct_seconds;
+    next.cpu_seconds += latest.cpu_seconds + correct_cpu;
+    next.profile.merge(latest.profile);
+    next.profile.add("correct_frames", correct_seconds);
+    latest = std::move(next);
   }
-  second.iterations += first.iterations;
-  second.seconds += first.seconds + correct_seconds;
-  second.cpu_seconds += first.cpu_seconds + correct_cpu;
-  second.profile.merge(first.profile);
-  second.profile.add("correct_frames", correct_seconds);
-  return second;
+  return latest;
 }
 
 std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const TrackerOptions& options) const {

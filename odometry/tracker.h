@@ -103,6 +103,13 @@ struct TrackerOptions {
   // rendering's scene.json, io/sensor_description.h), else 0; a pair estimated alone (no
   // sequence) takes -1 as 0. A property of the sensor, not tuned.
   double readout_time = -1.0;
+  // With frames corrected (readout_time > 0 or retime_depth 1 on unsynchronized depth): how
+  // many times the pair is estimated again on frames corrected with its latest estimate's
+  // velocity (1: once, from the estimate on the frames as given). The correction moves each
+  // row and depth pixel by a velocity that was itself estimated on uncorrected frames; each
+  // round brings it closer to the velocity its own frames imply. -1 (the default): the method's
+  // own, method_correction_rounds().
+  int correction_rounds = -1;
   // single / depth optimize one objective and build only its model per iteration; true
   // also evaluates the other one (weights estimated at the level's final x) for the logs,
   // LevelResult::f_i / f_d and PairResult::f_i / f_d, which are NaN otherwise.

@@ -96,6 +96,10 @@ void validate(const TrackerOptions& options) {
   if (!(options.policy.guard >= 0.0 && std::isfinite(options.policy.guard))) {
     throw Error("guard must be finite and >= 0, got " + std::to_string(options.policy.guard));
   }
+  if (!(options.correction_rounds == -1 || (options.correction_rounds >= 1 && options.correction_rounds <= 10))) {
+    throw Error("correction rounds must be in [1, 10], or -1 for the method's own, got " +
+                std::to_string(options.correction_rounds));
+  }
   if (!(options.step_extrapolation == -1.0 ||
         (options.step_extrapolation >= 1.0 && options.step_extrapolation <= 100.0))) {
     throw Error("step extrapolation must be in [1, 100] (1 = off), or -1 for the method's own, got " +

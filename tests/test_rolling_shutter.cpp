@@ -4,9 +4,11 @@
 // without the readout time.
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "odometry/odometry_methods.h"
 #include "odometry/rolling_shutter.h"
 #include "odometry/synth/defects.h"
 #include "odometry/tracker.h"
@@ -124,23 +126,45 @@ TEST(RollingShutter, AcceleratingPairWithThePairBefore) {
   const PreparedFrame current = frame(1.0);
   PreparedFrame reference = frame(0.0);
   const Eigen::Isometry3d T_21 = camera_at(phi(0.0) - phi(1.0));
-  const auto error = [&] {
+  const auto error = [&](int rounds) {
     TrackerOptions o;
     o.method = "joint";
     o.levels = 3;
     o.readout_time = kReadout;
+    o.correction_rounds = rounds;
     const PairResult r = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), o);
     EXPECT_TRUE(r.valid);
     return cm_or_deg(r.T_21, T_21);
   };
-  const double constant = error();
+  const double constant = error(1);
   reference.arrival_velocity = se3::log(camera_at(phi(-1.0) - phi(0.0))) / kInterval;  // the pair before, exact
   reference.arrival_time = -0.5 * kInterval;
-  const double linear = error();
+  const double linear = error(1);
   // Measured 0.030 and 0.170 (0.197 as global-shutter frames): the first estimate's error
-  // carried into the velocities (a second correction from the second estimate reaches 0.008).
+  // carried into the velocities.
   EXPECT_LT(linear, 0.06) << "cm or deg";
   EXPECT_GT(constant, 4.0 * linear) << constant << " vs " << linear << " cm or deg";
+  // A second correction, from the velocity the corrected frames gave (TrackerOptions::
+  // correction_rounds): closer to the truth.
+  const double twice = error(2);
+  EXPECT_LT(twice, 0.5 * linear) << twice << " vs " << linear << " cm or deg";
+}
+
+TEST(RollingShutter, CorrectionRoundsOneToTenOrTheMethods) {
+  for (const std::string& m : method_names()) {
+    const Method method = parse_method(m);
+    EXPECT_EQ(method_correction_rounds(method, -1), method == Method::kJoint ? 2 : 1) << m;
+    EXPECT_EQ(method_correction_rounds(method, 3), 3) << m;  // a request is kept
+  }
+  TrackerOptions o;
+  for (const int good : {-1, 1, 10}) {
+    o.correction_rounds = good;
+    EXPECT_NO_THROW(validate(o)) << good;
+  }
+  for (const int bad : {0, -2, 11}) {
+    o.correction_rounds = bad;
+    EXPECT_THROW(validate(o), Error) << bad;
+  }
 }
 
 TEST(RollingShutter, WithinOneSecondOrTheSequences) {
