@@ -13,51 +13,51 @@ double row_time(int v, int height, double readout) { return ((v + 0.5) / height 
 
 ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
                                 const solvers::se3::Vector6d& velocity, double readout) {
+  return global_shutter_intensity(intensity, depth, K, velocity, readout, default_kernels().isa);
+}
+
+ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
+                                const solvers::se3::Vector6d& velocity, double readout, KernelIsa isa) {
   const int w = intensity.width, h = intensity.height;
-  // Row v's camera, as a map from the camera at the timestamp to the camera at row v's time.
-  std::vector<Eigen::Matrix3f> R(static_cast<std::size_t>(h));
-  std::vector<Eigen::Vector3f> t(static_cast<std::size_t>(h));
+  // Row v's camera, as a map from the camera at the timestamp to the camera at row v's time:
+  // R row-major, then t (GlobalShutterParams::pose).
+  std::vector<float> pose(12 * static_cast<std::size_t>(h));
   for (int v = 0; v < h; ++v) {
     const Eigen::Isometry3d row_from_global = pose_after_delay(velocity, row_time(v, h, readout)).inverse();
-    R[static_cast<std::size_t>(v)] = row_from_global.linear().cast<float>();
-    t[static_cast<std::size_t>(v)] = row_from_global.translation().cast<float>();
-  }
-  const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
-  const float cx = static_cast<float>(K.cx), cy = static_cast<float>(K.cy);
-  float fallback = -1.0f;  // the median depth, once a row starts without depth
-  ImageF out = intensity;
-  for (int v = 0; v < h; ++v) {
-    const float ray_y = (static_cast<float>(v) - cy) / fy;
-    float z_last = 0.0f;
-    for (int u = 0; u < w; ++u) {
-      const float d = depth.at(u, v);
-      if (d > 0.0f) {
-        z_last = d;
-      } else if (z_last == 0.0f) {
-        if (fallback < 0.0f) fallback = static_cast<float>(median(depth, true));
-        z_last = fallback;
-      }
-      if (!(z_last > 0.0f)) continue;
-      const Eigen::Vector3f P(z_last * (static_cast<float>(u) - cx) / fx, z_last * ray_y, z_last);
-      float x = static_cast<float>(u), y = static_cast<float>(v);
-      bool inside = true;
-      for (int pass = 0; pass < 2 && inside; ++pass) {
-        const int row = pass == 0 ? v : std::min(static_cast<int>(y + 0.5f), h - 1);  // y in [0, h - 1]
-        const Eigen::Vector3f q = R[static_cast<std::size_t>(row)] * P + t[static_cast<std::size_t>(row)];
-        inside = q.z() > 0.0f;
-        if (!inside) break;
-        x = fx * q.x() / q.z() + cx;
-        y = fy * q.y() / q.z() + cy;
-        inside = x >= 0.0f && y >= 0.0f && x <= static_cast<float>(w - 1) && y <= static_cast<float>(h - 1);
-      }
-      if (!inside) continue;
-      const int x0 = std::min(static_cast<int>(x), w - 2), y0 = std::min(static_cast<int>(y), h - 2);
-      const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
-      const float top = (1.0f - ax) * intensity.at(x0, y0) + ax * intensity.at(x0 + 1, y0);
-      const float bottom = (1.0f - ax) * intensity.at(x0, y0 + 1) + ax * intensity.at(x0 + 1, y0 + 1);
-      out.at(u, v) = (1.0f - ay) * top + ay * bottom;
+    const Eigen::Matrix3f R = row_from_global.linear().cast<float>();
+    const Eigen::Vector3f t = row_from_global.translation().cast<float>();
+    float* p = pose.data() + 12 * static_cast<std::size_t>(v);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) p[3 * i + j] = R(i, j);
+      p[9 + i] = t(i);
     }
   }
+  // A row that starts without depth takes the image's median until its first valid depth.
+  float fallback = 0.0f;
+  for (int v = 0; v < h; ++v) {
+    if (!(depth.at(0, v) > 0.0f)) {
+      fallback = static_cast<float>(median(depth, true));
+      break;
+    }
+  }
+  std::vector<float> columns(static_cast<std::size_t>(w) + kLaneGroup), row_depth(columns.size());
+  for (std::size_t u = 0; u < columns.size(); ++u) columns[u] = static_cast<float>(u);
+  ImageF out = intensity;
+  GlobalShutterParams p;
+  p.intensity = intensity.data.data();
+  p.depth = depth.data.data();
+  p.fallback = fallback;
+  p.row_depth = row_depth.data();
+  p.pose = pose.data();
+  p.columns = columns.data();
+  p.out = out.data.data();
+  p.width = w;
+  p.height = h;
+  p.fx = static_cast<float>(K.fx);
+  p.fy = static_cast<float>(K.fy);
+  p.cx = static_cast<float>(K.cx);
+  p.cy = static_cast<float>(K.cy);
+  kernels(isa).global_shutter_rows(p, 0, h);
   return out;
 }
 

@@ -7,6 +7,7 @@
 
 #include "odometry/depth_retiming.h"
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/kernels/kernels.h"
 #include "odometry/rgbd_pyramid.h"
 
 namespace bivo::odometry {
@@ -20,8 +21,12 @@ double row_time(int v, int height, double readout);
 // its left in the row, else the image's median) is followed to the row that read it (the
 // row's own pose, twice: the row depends on where the point lands) and the intensity there is
 // interpolated bilinearly; a point read outside the image keeps its pixel's value.
+// The per-pixel pass by the best kernels of this CPU, or by those of `isa` (rgbd_kernels.h:
+// they agree to float rounding).
 ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
                                 const solvers::se3::Vector6d& velocity, double readout);
+ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
+                                const solvers::se3::Vector6d& velocity, double readout, KernelIsa isa);
 
 // A copy of `pyramid` whose full-resolution images are moved to its timestamp by the camera's
 // velocity there: depth by its delay (retime_depth) when `retime`, colour

@@ -175,6 +175,26 @@ struct ReferenceOut {
   float *x = nullptr, *y = nullptr, *z = nullptr, *intensity = nullptr;
 };
 
+// A rolling-shutter colour image moved to one instant (rolling_shutter.h,
+// global_shutter_intensity): rows [v_begin, v_end) of `out` (holding the image already).
+// Pixel u of row v, with its point P = z (u - cx) / fx, z (v - cy) / fy, z (z = depth[v w + u];
+// a missing one takes the nearest valid one to its left in the row, else `fallback`; none when
+// that is <= 0: the pixel keeps its value), is followed to the row that read it: q = R_r P + t_r with r = v, then r =
+// the row where q projects (rounded, clamped); where both projections are in front of the camera and inside the image,
+// out takes the image bilinearly at the second one. `pose` holds 12 floats per row: R row-major, then t. Bit-identical
+// for every instruction set.
+struct GlobalShutterParams {
+  const float* intensity = nullptr;  // width x height, row-major
+  const float* depth = nullptr;      // width x height [m], 0 = missing
+  float fallback = 0.0f;             // [m]
+  const float* pose = nullptr;       // 12 x height
+  const float* columns = nullptr;    // u as float, width + kLaneGroup entries
+  float* row_depth = nullptr;        // scratch, width + kLaneGroup entries
+  float* out = nullptr;
+  int width = 0, height = 0;
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
 struct KernelTable {
   KernelIsa isa;
   // Writes the row's terms from index k on; returns the index after the last. Bit-identical
@@ -190,6 +210,7 @@ struct KernelTable {
                                std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
                                  std::size_t begin, std::size_t end);
+  void (*global_shutter_rows)(const GlobalShutterParams&, int v_begin, int v_end);
 };
 
 // The best instruction set built in and supported by this CPU (AVX-512F sixteen lanes, else

@@ -479,6 +479,7 @@ std::size_t reference_row(const ReferenceRow& row, const ReferenceOut& out, std:
 }
 
 #include "odometry/kernels/brightness_kernels_impl.h"
+#include "odometry/kernels/frame_move_kernels_impl.h"
 
 template <class V>
 KernelTable make_table(KernelIsa isa) {
@@ -490,7 +491,8 @@ KernelTable make_table(KernelIsa isa) {
           &weigh_any<V>,
           &brightness_sums<V>,
           &correct_brightness<V>,
-          &normal_equations_any<V>};
+          &normal_equations_any<V>,
+          &global_shutter_rows<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS

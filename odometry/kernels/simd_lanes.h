@@ -53,6 +53,10 @@ struct ScalarLanes {
   static void store_flags(std::uint8_t* p, M a, M b) { *p = static_cast<std::uint8_t>((a ? 1 : 0) | (b ? 2 : 0)); }
   static int count(M m) { return m ? 1 : 0; }
   static double sum(F v) { return v; }
+  // Each lane truncated toward zero to index[0..kWidth) (lanes out of int range: unspecified).
+  static void truncate(F v, std::int32_t* index) { *index = static_cast<std::int32_t>(v); }
+  // base[index[j]] in lane j.
+  static F gather(const float* base, const std::int32_t* index) { return base[*index]; }
 
   // Pixel cell of (u, v) (valid lanes have 0 <= u < width - 1, 0 <= v < height - 1), one
   // index per lane stored at index[0..kWidth), and the fractions inside it; masked-off lanes
@@ -131,6 +135,12 @@ struct Avx2Lanes {
   }
   static int count(M m) { return __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(m.m))); }
   // Fixed order (lane 0 + lane 1 + ...), in double: sums are reproducible bit for bit.
+  static void truncate(F v, std::int32_t* index) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(index), _mm256_cvttps_epi32(v.v));
+  }
+  static F gather(const float* base, const std::int32_t* index) {
+    return {_mm256_i32gather_ps(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), 4)};
+  }
   static double sum(F v) {
     alignas(32) float l[8];
     _mm256_store_ps(l, v.v);
@@ -239,6 +249,10 @@ struct Avx512Lanes {
   }
   static int count(M m) { return __builtin_popcount(static_cast<unsigned>(m.m)); }
   // Fixed order (lane 0 + lane 1 + ...), in double: sums are reproducible bit for bit.
+  static void truncate(F v, std::int32_t* index) { _mm512_storeu_si512(index, _mm512_cvttps_epi32(v.v)); }
+  static F gather(const float* base, const std::int32_t* index) {
+    return {_mm512_i32gather_ps(_mm512_loadu_si512(index), base, 4)};
+  }
   static double sum(F v) {
     alignas(64) float l[16];
     _mm512_store_ps(l, v.v);
