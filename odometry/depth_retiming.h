@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "odometry/io/camera_intrinsics.h"
+#include "odometry/kernels/kernels.h"
 #include "odometry/rgbd_pyramid.h"
 #include "solvers/geometry/se3.h"
 
@@ -21,6 +22,9 @@ Eigen::Isometry3d pose_after_delay(const solvers::se3::Vector6d& velocity, doubl
 // its nearest pixel, its depth carried to that pixel's centre along the depth image's slope, the
 // nearest surface kept where several land; pixels nothing lands on are 0. A forward splat: a
 // backward search per pixel was 7x slower for no accuracy on the fast renderings.
+// By the best kernels of this CPU, or by those of `isa` (bit-identical results).
 ImageF retime_depth(const ImageF& depth, const io::Intrinsics& K, const Eigen::Isometry3d& colour_from_depth);
+ImageF retime_depth(const ImageF& depth, const io::Intrinsics& K, const Eigen::Isometry3d& colour_from_depth,
+                    KernelIsa isa);
 
 }  // namespace bivo::odometry

@@ -7,7 +7,6 @@
 
 #include "odometry/depth_retiming.h"
 #include "odometry/io/camera_intrinsics.h"
-#include "odometry/kernels/kernels.h"
 #include "odometry/rgbd_pyramid.h"
 
 namespace bivo::odometry {

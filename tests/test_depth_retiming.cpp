@@ -70,6 +70,28 @@ TEST(DepthRetiming, PlaneSeenFromTheColourCamera) {
   for (std::size_t i = 0; i < taken.data.size(); ++i) ASSERT_NEAR(same.data[i], taken.data[i], 1e-6) << i;
 }
 
+// The splat of every instruction set built in and supported here against the scalar one, at
+// the pose above and at 4x its motion, with holes in the depth: equal bit for bit.
+TEST(DepthRetiming, EveryInstructionSetMovesTheDepthAlike) {
+  ImageF taken = depth_of(render_plane(camera_at(1.5)));
+  for (int v = 0; v < taken.height; v += 5) {
+    for (int u = (v * 7) % 11; u < taken.width; u += 11) taken.at(u, v) = 0.0f;  // holes
+  }
+  for (const double speed : {1.0, 4.0}) {
+    const Eigen::Isometry3d pose = pose_after_delay(se3::log(camera_at(1.5)) * speed, -1.0);
+    const ImageF scalar = retime_depth(taken, kK, pose, KernelIsa::kScalar);
+    ASSERT_GT(difference(scalar, taken).mean, 3e-3 * speed) << "the depth moved";
+    for (const KernelIsa isa : {KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+      if (!kernels_available(isa)) continue;
+      SCOPED_TRACE(std::string(to_string(isa)) + ", speed " + std::to_string(speed));
+      const ImageF lanes = retime_depth(taken, kK, pose, isa);
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < scalar.data.size(); ++i) differ += lanes.data[i] != scalar.data[i];
+      EXPECT_EQ(differ, 0u) << "pixels";
+    }
+  }
+}
+
 TEST(DepthRetiming, ConstantVelocityPose) {
   const Eigen::Isometry3d T_21 = camera2().inverse();
   const double interval = 1.0 / 30.0;

@@ -195,6 +195,20 @@ struct GlobalShutterParams {
   float fx = 0, fy = 0, cx = 0, cy = 0;
 };
 
+// A depth image moved to another pose (depth_retiming.h, retime_depth): rows [v_begin, v_end)
+// of `depth` splatted into `out` (holding +inf where nothing landed yet; a pixel keeps the
+// smallest depth that lands on it, so rows may go in any order). `pose` holds R row-major, then
+// t. Bit-identical for every instruction set.
+struct RetimeDepthParams {
+  const float* depth = nullptr;  // width x height [m], 0 = missing
+  const float* rays = nullptr;   // (u - cx) / fx, width + kLaneGroup entries
+  float pose[12] = {};
+  float* row = nullptr;  // scratch, width + 2 + kLaneGroup entries
+  float* out = nullptr;
+  int width = 0, height = 0;
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
 struct KernelTable {
   KernelIsa isa;
   // Writes the row's terms from index k on; returns the index after the last. Bit-identical
@@ -211,6 +225,7 @@ struct KernelTable {
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
                                  std::size_t begin, std::size_t end);
   void (*global_shutter_rows)(const GlobalShutterParams&, int v_begin, int v_end);
+  void (*retime_depth_rows)(const RetimeDepthParams&, int v_begin, int v_end);
 };
 
 // The best instruction set built in and supported by this CPU (AVX-512F sixteen lanes, else

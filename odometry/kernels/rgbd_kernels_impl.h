@@ -492,7 +492,8 @@ KernelTable make_table(KernelIsa isa) {
           &brightness_sums<V>,
           &correct_brightness<V>,
           &normal_equations_any<V>,
-          &global_shutter_rows<V>};
+          &global_shutter_rows<V>,
+          &retime_depth_rows<V>};
 }
 
 }  // namespace BIVO_KERNEL_NS
