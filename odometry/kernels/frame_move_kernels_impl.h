@@ -102,8 +102,8 @@ void global_shutter_rows(const GlobalShutterParams& p, int v_begin, int v_end) {
       std::int32_t xi[W], yi[W], cell[W];
       float cell_x[W], cell_y[W];
       V::store(keep, V::select(inside, one, zero));
-      V::truncate(second.x, xi);
-      V::truncate(second.y, yi);
+      V::truncate(V::select(inside, second.x, zero), xi);  // no NaN or out-of-range lane converted
+      V::truncate(V::select(inside, second.y, zero), yi);
       for (int j = 0; j < W; ++j) {
         const bool used = keep[j] != 0.0f;
         const std::int32_t x0 = used ? (xi[j] < w - 2 ? xi[j] : w - 2) : 0;
