@@ -35,6 +35,10 @@ TrackerOptions unusual_options() {
   o.pixel_motion_tolerance = 0.1 + 0.7;
   o.step_extrapolation = 1.0 + 0.9;
   o.exact_finish_iterations = 3;  // not the default
+  o.retry_from_rest = 0;
+  o.retime_depth = 1;
+  o.readout_time = 0.0125 + 1e-9;
+  o.correction_rounds = 3;
   o.evaluate_unused_objective = true;
   o.min_valid_pixels = 123;
   o.max_association_dt = 0.015;
@@ -100,6 +104,10 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.pixel_motion_tolerance, o.pixel_motion_tolerance);
   EXPECT_EQ(back.step_extrapolation, o.step_extrapolation);
   EXPECT_EQ(back.exact_finish_iterations, o.exact_finish_iterations);
+  EXPECT_EQ(back.retry_from_rest, o.retry_from_rest);
+  EXPECT_EQ(back.retime_depth, o.retime_depth);
+  EXPECT_EQ(back.readout_time, o.readout_time);
+  EXPECT_EQ(back.correction_rounds, o.correction_rounds);
   EXPECT_EQ(back.evaluate_unused_objective, o.evaluate_unused_objective);
   EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);
   EXPECT_EQ(back.max_association_dt, o.max_association_dt);
