@@ -180,8 +180,9 @@ double method_joint_tolerance(Method method, double requested);
 double method_step_extrapolation(Method method, double requested);
 // The correction rounds (TrackerOptions::correction_rounds) a method uses when asked for -1
 // ("auto", the tracker's default); any other request is returned unchanged. joint: 2, chosen
-// held out (docs/results/rolling-shutter.md); robust: 1, its CPU budget (2 costs 1.41x
-// weighted); the others: 1, as the paper's rules and depth alone were measured.
+// held out (docs/results/rolling-shutter.md); robust: 1, its CPU budget (2 costs more than
+// 1.3x weighted's, docs/results/defaults.md); the others: 1, as the paper's rules and depth
+// alone were measured.
 int method_correction_rounds(Method method, int requested);
 // lambda of joint (S_II / S_DD) or scaled (kappa sigma_I^2 / sigma_D^2) from the scales of
 // one linearization; 0 when the scales are degenerate (no valid depth residual).
