@@ -239,7 +239,7 @@ std::vector<TrackerOption> build_table() {
             "joint, inverse and forward at the finest level for robust, forward otherwise)",
             BIVO_NAMED(problem.jacobian, odometry::to_string, odometry::parse_jacobian_kind)),
       integer("problem.threads", "--threads", 1, 256,
-              "threads of the per-pixel passes and the pyramid (results do not depend on it)",
+              "threads of the per-pixel passes, the pyramid and the frame moves (results do not depend on it)",
               BIVO_FIELD(problem.threads)),
       other(T::kName, "problem.weights.kind", "--weights", "robust weights: tdist, huber or none",
             BIVO_NAMED(problem.weights.kind, odometry::to_string, odometry::parse_weight_kind)),

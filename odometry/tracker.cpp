@@ -439,7 +439,11 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
       r.has_statistics = f.has_statistics;
       return r;
     };
-    const PreparedFrame reference_corrected = corrected(reference), current_corrected = corrected(current);
+    // The two frames are moved side by side (a worker takes one with threads >= 2).
+    PreparedFrame reference_corrected, current_corrected;
+    run_beside(
+        options.problem.threads, [&] { current_corrected = corrected(current); },
+        [&] { reference_corrected = corrected(reference); });
     const double correct_seconds = seconds_since(t0), correct_cpu = process_cpu_seconds() - cpu0;
     PairResult next = estimate_once(reference_corrected, current_corrected, latest.T_21, options);
     if (!next.valid) {  // the latest estimate stands, not the prior this round fell back to

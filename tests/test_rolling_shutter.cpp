@@ -175,6 +175,27 @@ TEST(RollingShutter, AcceleratingPairWithThePairBefore) {
   EXPECT_LT(twice, 0.5 * linear) << twice << " vs " << linear << " cm or deg";
 }
 
+// With two threads the two frames of a pair are moved side by side (estimate_motion): the
+// same estimate, bit for bit, as one thread's, each correction round.
+TEST(RollingShutter, TwoThreadsMoveTheFramesAsOne) {
+  const PreparedFrame reference = prepare_frame(rolling_frame(0.0), kK, 3);
+  const PreparedFrame current = prepare_frame(rolling_frame(1.0), kK, 3);
+  TrackerOptions o;
+  o.method = "joint";
+  o.levels = 3;
+  o.readout_time = kReadout;
+  for (const int rounds : {1, 3}) {
+    o.correction_rounds = rounds;
+    o.problem.threads = 1;
+    const PairResult one = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), o);
+    o.problem.threads = 2;
+    const PairResult two = estimate_motion(reference, current, Eigen::Isometry3d::Identity(), o);
+    ASSERT_TRUE(one.valid && two.valid) << rounds;
+    EXPECT_EQ(one.T_21.matrix(), two.T_21.matrix()) << rounds;
+    EXPECT_LT(cm_or_deg(one.T_21, camera2().inverse()), 3e-3) << rounds;  // the frames were moved
+  }
+}
+
 TEST(RollingShutter, CorrectionRoundsOneToTenOrTheMethods) {
   for (const std::string& m : method_names()) {
     const Method method = parse_method(m);
