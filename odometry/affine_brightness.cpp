@@ -59,14 +59,10 @@ BrightnessCorrection refit_stored_brightness(const KernelTable& kernels, const B
   return c;
 }
 
-PooledFloats squared_radii(const ReferenceArrays& ref, std::size_t padded) {
+PooledFloats squared_radii(const KernelTable& kernels, const ReferenceArrays& ref, std::size_t padded) {
   PooledFloats rho2(padded);
+  kernels.squared_radii(ref, rho2.data(), 0, ref.count);
   rho2.fill_from(ref.count, 0.0f);
-  for (std::size_t k = 0; k < ref.count; ++k) {
-    const float iz = 1.0f / ref.z[k];
-    const float xn = ref.x[k] * iz, yn = ref.y[k] * iz;
-    rho2[k] = std::fma(xn, xn, yn * yn);
-  }
   return rho2;
 }
 

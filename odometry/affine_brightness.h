@@ -32,8 +32,8 @@ BrightnessCorrection refit_stored_brightness(const KernelTable& kernels, const B
                                              const RadialPrior& prior, const TermBuffers& buf, std::size_t terms,
                                              int threads, double& sum_squares);
 
-// rho_x^2 of the reference terms (padded to `padded` entries with 0), in float as the kernels
-// form rho_y^2 (x_n = x (1 / z), then x_n^2 + y_n^2 fused), so that q = 0 at the identity.
-PooledFloats squared_radii(const ReferenceArrays& ref, std::size_t padded);
+// rho_x^2 of the reference terms (padded to `padded` entries with 0) by `kernels`
+// (KernelTable::squared_radii: as the warp forms rho_y^2, so that q = 0 at the identity).
+PooledFloats squared_radii(const KernelTable& kernels, const ReferenceArrays& ref, std::size_t padded);
 
 }  // namespace bivo::odometry

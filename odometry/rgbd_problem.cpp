@@ -94,7 +94,7 @@ RgbdOdometryProblem::RgbdOdometryProblem(const RgbdLevel& reference, const RgbdL
   if (options_.affine_brightness == 2) {
     q_.reset(n);
     q_.fill_from(0, 0.0f);
-    rho2_ = squared_radii(reference_terms_.view(), n);
+    rho2_ = squared_radii(*kernels_, reference_terms_.view(), n);
   }
   flag_storage_.reset((n + sizeof(float) - 1) / sizeof(float));
   stats_.terms = num_terms();
@@ -108,6 +108,7 @@ std::string RgbdOdometryProblem::name() const {
 
 void RgbdOdometryProblem::set_kernel_isa(KernelIsa isa) {
   kernels_ = &kernels(isa);
+  if (options_.affine_brightness == 2) rho2_ = squared_radii(*kernels_, reference_terms_.view(), rho2_.size());
   warp_x_.resize(0);  // nothing cached was computed by these kernels
   f_at_warp_.reset();
   last_linearization_.reset();

@@ -2,6 +2,7 @@
 // with (a, b) refit at every weight stage, against a pair whose current image is the reference
 // scene's brightened by a known gain and offset (closed form), the double path, and the methods'
 // defaults; with its radial term (2), against a pair whose images share a known fall-off.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -11,6 +12,7 @@
 
 #include "odometry/affine_brightness.h"
 #include "odometry/odometry_methods.h"
+#include "odometry/reference_terms.h"
 #include "odometry/rgbd_problem.h"
 #include "odometry/tracker.h"
 #include "solvers/error.h"
@@ -161,13 +163,41 @@ TEST(AffineBrightness, RadialTermRecoversTheFallOffAtTheTrueMotion) {
   });
 }
 
-// At the identity (q = 0: no motion shows no fall-off) the radial term is not fitted.
+// At the identity (q = 0: no motion shows no fall-off) the radial term is not fitted, by the
+// kernels of every instruction set.
 TEST(AffineBrightness, RadialTermIsLeftAtZeroWhereItCannotBeSeen) {
-  RgbdOdometryProblem p(vignetted().reference.pyramid.levels[0], vignetted().reference.pyramid.levels[0],
-                        unit_weights(2));
-  p.linearize(se3::to_ambient(Eigen::Isometry3d::Identity()), {});
-  EXPECT_EQ(p.last_stats().brightness_radial, 0.0);
-  EXPECT_NEAR(p.last_stats().brightness_gain, 1.0, 1e-6);
+  for_each_kernel_isa([](KernelIsa isa) {
+    const RgbdLevel& level = vignetted().reference.pyramid.levels[0];
+    RgbdOdometryProblem p(level, level, unit_weights(2));
+    linearize_with(p, isa, se3::to_ambient(Eigen::Isometry3d::Identity()));
+    EXPECT_EQ(p.last_stats().brightness_radial, 0.0);
+    EXPECT_NEAR(p.last_stats().brightness_gain, 1.0, 1e-6);
+  });
+}
+
+// rho^2 = (x^2 + y^2) / z^2 of every reference term (the closed form in double), padding 0; the
+// vector instruction sets bit for bit alike (division and fused sum are exact per lane).
+TEST(AffineBrightness, SquaredRadiiOfTheReferenceTerms) {
+  const ReferenceTerms terms = make_reference_terms(vignetted().reference.pyramid.levels[0], 0.1, 10.0, false);
+  const std::size_t padded = padded_terms(terms.count);
+  ASSERT_GT(terms.count, 1000u);
+  PooledFloats vector_isa;
+  for_each_kernel_isa([&](KernelIsa isa) {
+    const PooledFloats rho2 = squared_radii(kernels(isa), terms.view(), padded);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < terms.count; ++k) {
+      const double z = terms.z[k], xn = terms.x[k] / z, yn = terms.y[k] / z;
+      worst = std::max(worst, std::fabs(rho2[k] - (xn * xn + yn * yn)) / (xn * xn + yn * yn + 1e-3));
+    }
+    EXPECT_LT(worst, 1e-6);
+    for (std::size_t k = terms.count; k < padded; ++k) EXPECT_EQ(rho2[k], 0.0f) << k;
+    if (isa == KernelIsa::kScalar) return;
+    if (vector_isa.empty()) {
+      vector_isa = PooledFloats(padded);
+      for (std::size_t k = 0; k < padded; ++k) vector_isa[k] = rho2[k];
+    }
+    for (std::size_t k = 0; k < padded; ++k) ASSERT_EQ(rho2[k], vector_isa[k]) << k;
+  });
 }
 
 // The ridge on c (radial_prior): the fit of sums built from r = 2 x + 3 + 0.5 q recovers

@@ -1,4 +1,4 @@
-// The brightness kernels (KernelTable::brightness_sums, correct_brightness) as templates over
+// The brightness kernels (KernelTable::brightness_sums, correct_brightness, squared_radii) as templates over
 // a lane type; included by rgbd_kernels_impl.h inside its namespace BIVO_KERNEL_NS; no
 // include guard on purpose. x = I_1 - kBrightnessCentre; invalid r_I (and q) lanes are 0, r_I stays 0.
 
@@ -67,4 +67,15 @@ double correct_brightness(const BrightnessFit& p, const BrightnessStep& step, co
     ss += V::sum(acc);
   }
   return ss;
+}
+
+template <class V>
+void squared_radii(const ReferenceArrays& ref, float* rho2, std::size_t begin, std::size_t end) {
+  using F = typename V::F;
+  const F one = V::set(1.0f);
+  for (std::size_t k = begin; k < end; k += V::kWidth) {
+    const F iz = one / V::load(ref.z + k);  // as warp forms x_n, y_n of q = p at the identity
+    const F xn = V::load(ref.x + k) * iz, yn = V::load(ref.y + k) * iz;
+    V::store(rho2 + k, V::fma(xn, xn, yn * yn));
+  }
 }

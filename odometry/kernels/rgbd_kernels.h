@@ -222,6 +222,10 @@ struct KernelTable {
   BrightnessSums (*brightness_sums)(const BrightnessFit&, const TermBuffers&, std::size_t begin, std::size_t end);
   double (*correct_brightness)(const BrightnessFit&, const BrightnessStep&, const TermBuffers&, std::size_t begin,
                                std::size_t end);
+  // rho^2 = x_n^2 + y_n^2 of terms [begin, end) (whole lane groups: entries up to the next multiple
+  // of the lane width are written), x_n = x (1 / z) and the sum fused, as the warp forms rho_y^2, so
+  // that the radial regressor is 0 at the identity. Bit-identical for every instruction set.
+  void (*squared_radii)(const ReferenceArrays&, float* rho2, std::size_t begin, std::size_t end);
   NormalSums (*normal_equations)(const NormalParams&, const WeightModel&, const ReferenceArrays&, const TermBuffers&,
                                  std::size_t begin, std::size_t end);
   void (*global_shutter_rows)(const GlobalShutterParams&, int v_begin, int v_end);

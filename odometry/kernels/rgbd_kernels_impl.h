@@ -491,6 +491,7 @@ KernelTable make_table(KernelIsa isa) {
           &weigh_any<V>,
           &brightness_sums<V>,
           &correct_brightness<V>,
+          &squared_radii<V>,
           &normal_equations_any<V>,
           &global_shutter_rows<V>,
           &retime_depth_rows<V>};
