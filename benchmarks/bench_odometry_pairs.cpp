@@ -260,6 +260,16 @@ void register_cases() {
         [finest](benchmark::State& state) { rpy_pairs(state, "joint", finest, 1, 0.0, false, -1.0, 0, 0.025); })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
+    // Its wall time with one and two threads (the pair's two frames moved side by side).
+    for (const int threads : {1, 2}) {
+      benchmark::RegisterBenchmark(
+          ("RpyPairs/joint_rolling_" + std::string(threads == 1 ? "1thread" : "2threads") + "_wall" + at).c_str(),
+          [finest, threads](benchmark::State& state) {
+            rpy_pairs(state, "joint", finest, threads, 0.0, true, -1.0, 0, 0.025);
+          })
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
+    }
     // eps = 1e-5 lies below min F_D per unit weight on most pairs: the exact step is
     // infeasible (multiplier inf) on ~2/3 of the steps and minimizes F_D alone there.
     benchmark::RegisterBenchmark(("RpyPairs/bounded_active" + at).c_str(), BM_RpyPairs, std::string("bounded"), finest,
