@@ -21,18 +21,18 @@ double row_time(int v, int height, double readout);
 // row's own pose, twice: the row depends on where the point lands) and the intensity there is
 // interpolated bilinearly; a point read outside the image keeps its pixel's value.
 // The per-pixel pass by the best kernels of this CPU, or by those of `isa` (rgbd_kernels.h:
-// they agree to float rounding).
+// bit-identical), its rows split over `threads` threads (the result does not depend on it).
 ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
-                                const solvers::se3::Vector6d& velocity, double readout);
+                                const solvers::se3::Vector6d& velocity, double readout, int threads = 1);
 ImageF global_shutter_intensity(const ImageF& intensity, const ImageF& depth, const io::Intrinsics& K,
-                                const solvers::se3::Vector6d& velocity, double readout, KernelIsa isa);
+                                const solvers::se3::Vector6d& velocity, double readout, KernelIsa isa, int threads = 1);
 
 // A copy of `pyramid` whose full-resolution images are moved to its timestamp by the camera's
 // velocity there: depth by its delay (retime_depth) when `retime`, colour
 // by its rows' times when readout > 0 (with the depth so moved); coarser levels downsampled;
-// its depth_delay is 0 once retimed.
+// its depth_delay is 0 once retimed. The colour move's rows are split over `threads` threads.
 // At full resolution: retiming at 320x240 kept the fast renderings' worst joint pair above 2 deg.
 RgbdPyramid pyramid_at_timestamp(const RgbdPyramid& pyramid, const solvers::se3::Vector6d& velocity, bool retime,
-                                 double readout);
+                                 double readout, int threads = 1);
 
 }  // namespace bivo::odometry

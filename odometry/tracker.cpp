@@ -434,7 +434,7 @@ PairResult estimate_motion(const PreparedFrame& reference, const PreparedFrame& 
     const auto corrected = [&](const PreparedFrame& f) {
       PreparedFrame r;
       const se3::Vector6d at_frame = velocity + (f.pyramid.timestamp - middle) * acceleration;
-      r.pyramid = pyramid_at_timestamp(f.pyramid, at_frame, retime, options.readout_time);
+      r.pyramid = pyramid_at_timestamp(f.pyramid, at_frame, retime, options.readout_time, options.problem.threads);
       r.statistics = f.statistics;
       r.has_statistics = f.has_statistics;
       return r;

@@ -90,7 +90,8 @@ TEST(RollingShutter, PlaneSeenByAGlobalShutter) {
 
 // The per-pixel pass of every instruction set built in and supported here against the scalar
 // one, on the frame above and on a fast one (4x the motion, so that rows land far from their
-// own) with holes in its depth and a row without any: equal bit for bit, pixel by pixel.
+// own) with holes in its depth and a row without any, with one thread and three: equal bit for
+// bit, pixel by pixel.
 TEST(RollingShutter, EveryInstructionSetMovesTheImageAlike) {
   const io::RgbdImage rolling = rolling_frame(1.0);
   const ImageF taken = image(rolling.intensity);
@@ -102,13 +103,17 @@ TEST(RollingShutter, EveryInstructionSetMovesTheImageAlike) {
   for (const double speed : {1.0, 4.0}) {
     const ImageF scalar = global_shutter_intensity(taken, depth, kK, speed * kVelocity, kReadout, KernelIsa::kScalar);
     ASSERT_GT(mean_difference(scalar, taken), 0.5 * speed) << "gray levels: the image moved";
-    for (const KernelIsa isa : {KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
+    for (const KernelIsa isa : {KernelIsa::kScalar, KernelIsa::kAvx2, KernelIsa::kAvx512Vl, KernelIsa::kAvx512}) {
       if (!kernels_available(isa)) continue;
-      SCOPED_TRACE(std::string(to_string(isa)) + ", speed " + std::to_string(speed));
-      const ImageF lanes = global_shutter_intensity(taken, depth, kK, speed * kVelocity, kReadout, isa);
-      std::size_t differ = 0;
-      for (std::size_t i = 0; i < scalar.data.size(); ++i) differ += lanes.data[i] != scalar.data[i];
-      EXPECT_EQ(differ, 0u) << "pixels";
+      for (const int threads : {1, 3}) {  // rows split over threads: the same image
+        if (isa == KernelIsa::kScalar && threads == 1) continue;
+        SCOPED_TRACE(std::string(to_string(isa)) + ", speed " + std::to_string(speed) + ", " + std::to_string(threads) +
+                     " threads");
+        const ImageF lanes = global_shutter_intensity(taken, depth, kK, speed * kVelocity, kReadout, isa, threads);
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < scalar.data.size(); ++i) differ += lanes.data[i] != scalar.data[i];
+        EXPECT_EQ(differ, 0u) << "pixels";
+      }
     }
   }
 }
