@@ -225,8 +225,7 @@ JointScaleSums joint_scale_sums(const JointScaleParams& p, const TermBuffers& bu
   return total;
 }
 
-// The weight stage at one lane group: w_I, w_D from the model (0 where invalid); written to
-// the buffers unless the model is kStored, which reads them.
+// One objective's weights at one lane group from its model (0 where invalid; kStored reads them).
 template <class V, WeightModel::Kind kKind>
 inline typename V::F lane_weight(const ObjectiveWeights& m, const float* stored, std::size_t k, typename V::M valid,
                                  typename V::F r) {
