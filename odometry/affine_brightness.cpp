@@ -40,13 +40,14 @@ BrightnessCorrection solve_brightness(const BrightnessSums& s, bool radial, cons
 }
 
 BrightnessCorrection refit_stored_brightness(const KernelTable& kernels, const BrightnessFit& fit,
-                                             const RadialPrior& prior, const TermBuffers& buf, std::size_t terms,
-                                             int threads, double& sum_squares) {
-  const BrightnessCorrection c =
+                                             const RadialPrior& prior, double gain, const TermBuffers& buf,
+                                             std::size_t terms, int threads, double& sum_squares) {
+  BrightnessCorrection c =
       solve_brightness(sum_over_chunks<BrightnessSums>(
                            terms, kChunkTerms, threads,
                            [&](std::size_t b, std::size_t e) { return kernels.brightness_sums(fit, buf, b, e); }),
                        fit.radial, prior);
+  if (!(gain + c.gain >= kMinBrightnessGain)) c.valid = false;
   if (!c.valid) return c;
   struct SquareSum {
     double value = 0.0;

@@ -23,14 +23,20 @@ struct RadialPrior {
   double strength = 0.0, current = 0.0;
 };
 
+// A fit whose gain a would fall below this is refused (not valid): the current image has lost
+// the reference's contrast (black, saturated or constant), which no brightness change explains;
+// accepted, a = 0 would explain every r_I away and leave no residual scale to weigh them by.
+constexpr double kMinBrightnessGain = 0.1;
+
 // The weighted least-squares fit of r_I on (I_1, 1) (and q when `radial`) from its sums.
 BrightnessCorrection solve_brightness(const BrightnessSums& sums, bool radial, const RadialPrior& prior = {});
 
-// The fit to the stored r_I of `terms` (padded) buffer entries, applied to them. sum_squares:
-// their new sum of r_I^2 (left as it is when the fit is not valid).
+// The fit to the stored r_I of `terms` (padded) buffer entries, applied to them, unless the gain
+// would fall below kMinBrightnessGain from the present `gain`. sum_squares: their new sum of r_I^2
+// (left as it is when the fit is not valid).
 BrightnessCorrection refit_stored_brightness(const KernelTable& kernels, const BrightnessFit& fit,
-                                             const RadialPrior& prior, const TermBuffers& buf, std::size_t terms,
-                                             int threads, double& sum_squares);
+                                             const RadialPrior& prior, double gain, const TermBuffers& buf,
+                                             std::size_t terms, int threads, double& sum_squares);
 
 // rho_x^2 of the reference terms (padded to `padded` entries with 0) by `kernels`
 // (KernelTable::squared_radii: as the warp forms rho_y^2, so that q = 0 at the identity).

@@ -210,8 +210,8 @@ void RgbdOdometryProblem::refit_brightness(WarpSums& at) {
   fit.weighted = weights_mask_.intensity;
   fit.radial = options_.affine_brightness == 2;
   const RadialPrior prior{options_.radial_prior, stats_.brightness_radial};
-  const BrightnessCorrection c =
-      refit_stored_brightness(*kernels_, fit, prior, buffers(), r_i_.size(), options_.threads, at.ss_i);
+  const BrightnessCorrection c = refit_stored_brightness(*kernels_, fit, prior, stats_.brightness_gain, buffers(),
+                                                         r_i_.size(), options_.threads, at.ss_i);
   if (!c.valid) return;
   stats_.brightness_gain += c.gain;
   stats_.brightness_offset += c.offset;

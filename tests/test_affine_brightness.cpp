@@ -269,6 +269,27 @@ TEST(AffineBrightness, TrackerFindsTheMotionDespiteTheBrightnessChange) {
   EXPECT_EQ(error_of("single", 1), error_of("single", 0));
 }
 
+// A current image without contrast (black): a gain of 0 would explain every r_I away and leave
+// no residual scale to weigh them by (joint's weights were NaN). The fit is refused
+// (kMinBrightnessGain) and the linearization stays finite. (The tracker does not solve such a
+// pair: FramesWithoutInformation.AnImageWithoutContrastFallsBackToTheMotionPrior.)
+TEST(AffineBrightness, ACurrentImageWithoutContrastIsNoBrightnessChange) {
+  io::RgbdImage black = render_plane(camera2());
+  for (float& i : black.intensity) i = 0.0f;
+  const PreparedFrame reference = prepare_frame(render_plane(Eigen::Isometry3d::Identity()), kK, 3);
+  const PreparedFrame current = prepare_frame(black, kK, 3);
+  const Eigen::VectorXd x = se3::to_ambient(camera2().inverse());
+  for (const int affine : {1, 2}) {
+    RgbdProblemOptions o;
+    o.affine_brightness = affine;
+    o.joint_weights = true;
+    RgbdOdometryProblem p(reference.pyramid.levels[0], current.pyramid.levels[0], o);
+    const solvers::Linearization lin = p.linearize(x, {});
+    EXPECT_EQ(p.last_stats().brightness_gain, 1.0) << affine;
+    EXPECT_TRUE(std::isfinite(lin.f1.a) && lin.f1.H.allFinite() && lin.f2.H.allFinite()) << affine;
+  }
+}
+
 // On the vignetted pair the radial term brings the estimate back to the unvignetted pair's.
 TEST(AffineBrightness, TrackerWithTheRadialTermFindsTheMotionDespiteTheFallOff) {
   const auto error_of = [&](const std::string& method, int affine, bool vignetting) {
