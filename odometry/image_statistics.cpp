@@ -315,6 +315,12 @@ double variance(const ImageF& image, bool skip_missing, int threads) {
   return variance_of(m);
 }
 
+bool has_contrast(const ImageF& image, float range) {
+  if (image.data.empty()) return false;
+  const float first = image.data.front();
+  return std::any_of(image.data.begin(), image.data.end(), [&](float v) { return !(std::fabs(v - first) < range); });
+}
+
 double median(const ImageF& image, bool skip_missing) {
   const auto selected = [skip_missing](float v) { return !skip_missing || v > 0.0f; };
   const std::vector<std::uint32_t>& hist = top_bits_histogram(image, selected);

@@ -22,6 +22,10 @@ double variance(const ImageF& image, bool skip_missing, int threads = 1);
 // two middle values for an even count).
 double median(const ImageF& image, bool skip_missing);
 
+// false when every value lies within `range` of the first (a black, saturated or constant
+// image); stops at the first value that does not (the first few pixels of any real image).
+bool has_contrast(const ImageF& image, float range = 1.0f);
+
 // Everything the policies need from one frame, computed once per frame. Sums are taken over
 // fixed row chunks (threads change the time, not the numbers). The exact medians cost about
 // as much as all the sums together (two histogram passes and a selection per image) and only

@@ -13,6 +13,7 @@
 #include <thread>
 #include <utility>
 
+#include "odometry/image_statistics.h"
 #include "odometry/io/frame_stream.h"
 #include "odometry/noise_bounded_level.h"
 #include "odometry/robust_level.h"
@@ -211,6 +212,16 @@ PairResult estimate_once(const PreparedFrame& reference, const PreparedFrame& cu
     if (lr.terms < options.min_valid_pixels) {
       lr.skipped = true;
       lr.termination = "skipped: " + std::to_string(lr.terms) + " reference pixels with valid depth";
+      result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
+      result.levels.push_back(lr);
+      continue;
+    }
+    // F_I holds no information where an image has no contrast (black, saturated): every method
+    // that reads F_I would report a pose it moved for nothing.
+    if (method != Method::kDepth && (!has_contrast(reference.pyramid.levels[level].intensity) ||
+                                     !has_contrast(current.pyramid.levels[level].intensity))) {
+      lr.skipped = true;
+      lr.termination = "skipped: an image without contrast (every intensity within 1 gray level)";
       result.note += "level " + std::to_string(level) + " " + lr.termination + "; ";
       result.levels.push_back(lr);
       continue;
