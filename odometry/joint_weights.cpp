@@ -123,6 +123,11 @@ WeightModel joint_weight_model(const JointScale& s, const WeightOptions& options
     marginal->denominator = static_cast<float>(options.nu);
     marginal->inv_scale2 = static_cast<float>(1.0 / scale2);
   }
+  // A scale too small for the kernels' float arithmetic (residuals that vanish: depth that fits
+  // to the last bit) has no float inverse: unit weights, as without a scale.
+  for (const float v : {m.joint.p_ii, m.joint.p_id, m.joint.p_dd, m.intensity.inv_scale2, m.depth.inv_scale2}) {
+    if (!std::isfinite(v)) return WeightModel{};
+  }
   return m;
 }
 

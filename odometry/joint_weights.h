@@ -44,7 +44,7 @@ JointScale compute_joint_weights(const float* r_i, const float* r_d, const unsig
 // stage with joint_weight_model(S), fused into the normal equations.
 JointScale estimate_joint_scale(const TermBuffers& buf, std::size_t n, const WeightOptions& options,
                                 const JointScale& initial, const KernelTable& kernels, int threads);
-// WeightModel::kJoint for S (unit weights when S is not valid).
+// WeightModel::kJoint for S (unit weights when S is not valid or has no float inverse).
 WeightModel joint_weight_model(const JointScale& s, const WeightOptions& options);
 
 }  // namespace bivo::odometry

@@ -215,7 +215,8 @@ WeightModel weight_model(const WeightOptions& options, double sigma_i, double si
   WeightModel m;
   const auto objective = [&](double sigma) {
     ObjectiveWeights w;  // unit
-    if (!(sigma > 0.0)) return w;
+    // A scale whose inverse square overflows float (residuals that vanish) weighs as none.
+    if (!(sigma > 0.0) || !std::isfinite(static_cast<float>(1.0 / (sigma * sigma)))) return w;
     if (options.kind == WeightKind::kTDistribution) {
       w.numerator = static_cast<float>(options.nu + 1.0);
       w.denominator = static_cast<float>(options.nu);

@@ -65,8 +65,9 @@ std::array<double, 2> estimate_scales(const ResidualSet& intensity, const Residu
                                       const WeightOptions& options, std::array<double, 2> initial_sigma,
                                       const KernelTable& kernels, int threads);
 
-// The WeightModel that applies `options` with scales sigma_i, sigma_d (0: unit weights, the
-// compute_weights() convention for an objective without usable residuals).
+// The WeightModel that applies `options` with scales sigma_i, sigma_d (0, or a scale whose
+// inverse square overflows float: unit weights, the compute_weights() convention for an
+// objective without usable residuals).
 WeightModel weight_model(const WeightOptions& options, double sigma_i, double sigma_d);
 
 }  // namespace bivo::odometry

@@ -172,3 +172,27 @@ TEST(JointWeights, NewtonReachesTheFixedPointInAFewPasses) {
     EXPECT_LT(error(s.s_ii, s.s_id, s.s_dd), 0.1 * error(plain(0, 0), plain(0, 1), plain(1, 1)));
   }
 }
+
+// Depth that fits to the last bit (a flat wall, r_D ~ 1e-20 m): S_DD falls below what float can
+// invert and the joint precision overflowed to inf, so the weights were 0 * inf = NaN. Such a
+// scale weighs as none: every weight finite (unit), and the t-scale model alike.
+TEST(JointWeights, AScaleWithoutAFloatInverseGivesUnitWeights) {
+  std::mt19937 rng(7);
+  std::normal_distribution<float> gray(0.0f, 4.0f), tiny(0.0f, 1e-21f);
+  const std::size_t n = 4000;
+  std::vector<float> r_i(n), r_d(n), w_i(n), w_d(n);
+  std::vector<unsigned char> valid(n, 1);
+  for (std::size_t k = 0; k < n; ++k) r_i[k] = gray(rng), r_d[k] = tiny(rng);
+  WeightOptions o;
+  const JointScale s =
+      compute_joint_weights(r_i.data(), r_d.data(), valid.data(), valid.data(), n, o, w_i.data(), w_d.data());
+  EXPECT_GT(s.s_dd, 0.0);
+  EXPECT_FALSE(std::isfinite(static_cast<float>(s.s_ii / s.determinant())));  // the case at hand
+  for (std::size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(w_i[k], 1.0f) << k;
+    ASSERT_EQ(w_d[k], 1.0f) << k;
+  }
+  const WeightModel t = weight_model(o, 4.0, 1e-21);
+  EXPECT_EQ(t.depth.inv_scale2, ObjectiveWeights{}.inv_scale2);  // unit
+  EXPECT_GT(t.intensity.inv_scale2, 0.06f);
+}
