@@ -15,20 +15,38 @@ using namespace bivo;
 using namespace bivo::odometry;
 using namespace bivo::odometry::io;
 
-TEST(FramesWithoutInformation, LevelsWithoutDepthFallBackToTheMotionPrior) {
+namespace {
+
+// A 64x48 frame: an intensity pattern of 50 gray levels, depth(x, y) at each pixel.
+template <class Depth>
+RgbdImage pattern_frame(const Depth& depth) {
   RgbdImage im;
   im.width = 64;
   im.height = 48;
   for (int y = 0; y < 48; ++y) {
-    for (int x = 0; x < 64; ++x) im.intensity.push_back(static_cast<float>((x * 7 + y * 3) % 50));
+    for (int x = 0; x < 64; ++x) {
+      im.intensity.push_back(static_cast<float>((x * 7 + y * 3) % 50));
+      im.depth.push_back(depth(x, y));
+    }
   }
-  im.depth.assign(64 * 48, 0.0f);  // no valid depth anywhere
+  return im;
+}
+
+// The motion prior the pairs start from: 1 cm and about 1 deg.
+Eigen::Isometry3d small_prior() {
+  solvers::se3::Vector6d xi;
+  xi << 0.01, 0.0, 0.0, 0.0, 0.02, 0.0;
+  return solvers::se3::exp(xi);
+}
+
+}  // namespace
+
+TEST(FramesWithoutInformation, LevelsWithoutDepthFallBackToTheMotionPrior) {
+  const RgbdImage im = pattern_frame([](int, int) { return 0.0f; });  // no valid depth anywhere
   TrackerOptions o;
   o.levels = 3;
   const PreparedFrame a = prepare_frame(im, Intrinsics{}, 3), b = prepare_frame(im, Intrinsics{}, 3);
-  solvers::se3::Vector6d xi;
-  xi << 0.01, 0.0, 0.0, 0.0, 0.02, 0.0;
-  const Eigen::Isometry3d prior = solvers::se3::exp(xi);
+  const Eigen::Isometry3d prior = small_prior();
   for (const char* method : {"single", "bounded", "fixed"}) {
     o.method = method;
     const PairResult r = estimate_motion(a, b, prior, o);
@@ -44,24 +62,15 @@ TEST(FramesWithoutInformation, LevelsWithoutDepthFallBackToTheMotionPrior) {
 // every method that reads it keeps the motion prior instead of a pose it moved for nothing;
 // depth alone still estimates.
 TEST(FramesWithoutInformation, AnImageWithoutContrastFallsBackToTheMotionPrior) {
-  RgbdImage textured;
-  textured.width = 64;
-  textured.height = 48;
-  for (int y = 0; y < 48; ++y) {
-    for (int x = 0; x < 64; ++x) {
-      textured.intensity.push_back(static_cast<float>((x * 7 + y * 3) % 50));
-      textured.depth.push_back(1.0f + 0.01f * static_cast<float>(x % 5 + y % 3));  // a bumpy wall
-    }
-  }
+  const RgbdImage textured =
+      pattern_frame([](int x, int y) { return 1.0f + 0.01f * static_cast<float>(x % 5 + y % 3); });  // a bumpy wall
   RgbdImage black = textured;
   black.intensity.assign(black.intensity.size(), 0.0f);
   for (float& v : black.intensity) v += (&v - black.intensity.data()) % 2 ? 0.9f : 0.0f;  // < 1 gray level
   TrackerOptions o;
   o.levels = 3;
   const PreparedFrame lit = prepare_frame(textured, Intrinsics{}, 3), dark = prepare_frame(black, Intrinsics{}, 3);
-  solvers::se3::Vector6d xi;
-  xi << 0.01, 0.0, 0.0, 0.0, 0.02, 0.0;
-  const Eigen::Isometry3d prior = solvers::se3::exp(xi);
+  const Eigen::Isometry3d prior = small_prior();
   for (const auto& [reference, current] : {std::pair{&dark, &lit}, std::pair{&lit, &dark}}) {
     for (const std::string& method : method_names()) {
       o.method = method;
