@@ -270,7 +270,7 @@ TEST(AffineBrightness, TrackerFindsTheMotionDespiteTheBrightnessChange) {
 }
 
 // A current image without contrast (black): a gain of 0 would explain every r_I away and leave
-// no residual scale to weigh them by (joint's weights were NaN). The fit is refused
+// no residual scale to weigh them by (joint's weights would be NaN). The fit is refused
 // (kMinBrightnessGain) and the linearization stays finite. (The tracker does not solve such a
 // pair: FramesWithoutInformation.AnImageWithoutContrastFallsBackToTheMotionPrior.)
 TEST(AffineBrightness, ACurrentImageWithoutContrastIsNoBrightnessChange) {

@@ -97,9 +97,9 @@ TEST(FramesWithoutInformation, AnImageWithoutContrastFallsBackToTheMotionPrior) 
   EXPECT_TRUE(has_contrast(lit.pyramid.levels[0].intensity));
 }
 
-// Real fr1/desk frames whose depth is one flat 1 m: on pair 1 -> 2 r_D fell to ~1e-20 m, S_DD
-// below what float inverts, and robust's weights to NaN, which stopped the run
-// (JointWeights.AScaleWithoutAFloatInverseGivesUnitWeights). Every method returns a finite pose.
+// Real fr1/desk frames whose depth is one flat 1 m: on pair 1 -> 2 r_D falls to ~1e-20 m and
+// S_DD below what float inverts (JointWeights.AScaleWithoutAFloatInverseGivesUnitWeights).
+// Every method returns a finite pose.
 TEST(FramesWithoutInformation, DepthThatFitsToTheLastBitLeavesAFinitePose) {
   const std::string dir = std::string(BIVO_SHARED_DIR) + "/data/tum/rgbd_dataset_freiburg1_desk";
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared data absent: " << dir;

@@ -174,8 +174,8 @@ TEST(JointWeights, NewtonReachesTheFixedPointInAFewPasses) {
 }
 
 // Depth that fits to the last bit (a flat wall, r_D ~ 1e-20 m): S_DD falls below what float can
-// invert and the joint precision overflowed to inf, so the weights were 0 * inf = NaN. Such a
-// scale weighs as none: every weight finite (unit), and the t-scale model alike.
+// invert, and the joint precision would be inf and the weights 0 * inf = NaN. Such a scale
+// weighs as none: every weight finite (unit), and the t-scale model alike.
 TEST(JointWeights, AScaleWithoutAFloatInverseGivesUnitWeights) {
   std::mt19937 rng(7);
   std::normal_distribution<float> gray(0.0f, 4.0f), tiny(0.0f, 1e-21f);
