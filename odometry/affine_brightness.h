@@ -23,9 +23,9 @@ struct RadialPrior {
   double strength = 0.0, current = 0.0;
 };
 
-// A fit whose gain a would fall below this is refused (not valid): the current image has lost
-// the reference's contrast (black, saturated or constant), which no brightness change explains;
-// accepted, a = 0 would explain every r_I away and leave no residual scale to weigh them by.
+// A fit whose gain a would fall below this is refused (not valid): I_2 at the warped points no
+// longer follows I_1 (an image without contrast, or a pose far from aligning them), which no
+// brightness change explains; a = 0 would explain every r_I away and leave no residual scale.
 constexpr double kMinBrightnessGain = 0.1;
 
 // The weighted least-squares fit of r_I on (I_1, 1) (and q when `radial`) from its sums.
