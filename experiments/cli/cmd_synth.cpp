@@ -83,6 +83,12 @@ bool motion_or_naming(const std::string& name) {
   return false;
 }
 
+// The scene's layout: a profile's sensor may be placed in a scene whose depths match a real
+// recording's (docs/results/stress-set.md).
+bool scene_layout(const std::string& name) {
+  return name == "--wall-behind" || name == "--view-distance" || name == "--view-pitch";
+}
+
 void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allow_frames) {
   for (const char* name : kPerSequenceOptions) {
     if (allow_frames && std::string(name) == "--frames") continue;
@@ -162,12 +168,16 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   o.category = synth::parse_category(a.category, a.distance);
   if (!a.stress_profile.empty()) {
     for (const char* name : kPerSequenceOptions) {
-      if (!motion_or_naming(name) && cmd.get_option(name)->count() > 0) {
-        throw Error(std::string("synth: --stress-profile fixes the sensor and scene; drop ") + name);
+      if (!motion_or_naming(name) && !scene_layout(name) && cmd.get_option(name)->count() > 0) {
+        throw Error(std::string("synth: --stress-profile fixes the sensor; drop ") + name);
       }
     }
     const synth::SynthOptions given = o;
     synth::apply_stress_profile(a.stress_profile, o);
+    // A layout given on the command line wins over the profile's scene.
+    if (cmd.get_option("--wall-behind")->count() > 0) o.layout.wall_behind_m = given.layout.wall_behind_m;
+    if (cmd.get_option("--view-distance")->count() > 0) o.layout.distance_m = given.layout.distance_m;
+    if (cmd.get_option("--view-pitch")->count() > 0) o.layout.pitch_deg = given.layout.pitch_deg;
     // Motion given on the command line wins over the profile's generated motion.
     if (cmd.get_option("--speed")->count() > 0) o.handheld.mean_linear_speed_mps = given.handheld.mean_linear_speed_mps;
     if (cmd.get_option("--angular-speed")->count() > 0)
@@ -286,7 +296,7 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--flying-pixels", d.flying_pixels,
                   "share of occlusion-band pixels kept at a depth between the edge's sides (0 = off)");
   cmd->add_option("--stress-profile", args->stress_profile,
-                  "deep or fast: the stress set's sensor, defects and scene along this sequence's motion");
+                  "deep or fast: the stress set's sensor, defects and scene (the layout flags move the scene)");
   cmd->callback([args, cmd] {
     odometry::io::OutputJournal journal;  // a failed rendering takes the folders it made back
     run_synth(*args, *cmd);
