@@ -144,6 +144,17 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     summary.multiplier = step.multiplier;
     summary.epsilon = sp.epsilon;
     last_feasible = step.feasible;
+    // Ends the solve at this iteration without taking its step: x and F stay.
+    const auto stop_without_step = [&](TerminationReason reason, std::string message) {
+      summary.termination = reason;
+      summary.message = std::move(message);
+      rec.accepted = false;
+      rec.f1 = f[0];
+      rec.f2 = f[1];
+      rec.seconds = seconds_since(t_iter);
+      rec.x = x;
+      summary.records.push_back(rec);
+    };
 
     if (step.delta.size() != manifold.tangent_dim()) {
       std::ostringstream msg;
@@ -152,30 +163,17 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
       throw Error(msg.str());
     }
     if (!step.delta.allFinite()) {
-      summary.termination = TerminationReason::kNumericalFailure;
-      summary.message = "backend '" + backend.name() + "' returned a NaN/Inf step (" + step.status + ")";
-      rec.accepted = false;
-      rec.f1 = f[0];
-      rec.f2 = f[1];
-      rec.seconds = seconds_since(t_iter);
-      rec.x = x;
-      summary.records.push_back(rec);
+      stop_without_step(TerminationReason::kNumericalFailure,
+                        "backend '" + backend.name() + "' returned a NaN/Inf step (" + step.status + ")");
       break;
     }
     rec.step_norm = step.delta.norm();
     if (options.step_measure && options.step_measure_tolerance > 0.0) {
       const double size = options.step_measure(x, step.delta);
       if (size < options.step_measure_tolerance) {
-        summary.termination = TerminationReason::kStepTolerance;
         std::ostringstream msg;
         msg << "step measure " << size << " < " << options.step_measure_tolerance << " (step not taken)";
-        summary.message = msg.str();
-        rec.accepted = false;
-        rec.f1 = f[0];
-        rec.f2 = f[1];
-        rec.seconds = seconds_since(t_iter);
-        rec.x = x;
-        summary.records.push_back(rec);
+        stop_without_step(TerminationReason::kStepTolerance, msg.str());
         break;
       }
     }
@@ -207,14 +205,8 @@ Summary solve(BiObjectiveProblem& problem, const Scalarization& scalarization, S
     previous_step = step.delta;
     previous_scale = rec.step_scale;
     if (!finite2(f_new)) {
-      summary.termination = TerminationReason::kNumericalFailure;
-      summary.message = "objective is NaN/Inf after the step; x kept at the last good value";
-      rec.accepted = false;
-      rec.f1 = f[0];
-      rec.f2 = f[1];
-      rec.seconds = seconds_since(t_iter);
-      rec.x = x;
-      summary.records.push_back(rec);
+      stop_without_step(TerminationReason::kNumericalFailure,
+                        "objective is NaN/Inf after the step; x kept at the last good value");
       break;
     }
     const double merit_old = merit(f, sp, step);
