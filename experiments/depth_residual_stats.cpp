@@ -114,17 +114,21 @@ double sample_intensity(const std::vector<float>& im, int w, int h, double x, do
 
 DepthResidualStats depth_residual_stats(const std::string& dir, const DepthResidualOptions& o) {
   namespace io = odometry::io;
+  if (o.gap < 1 || o.max_pairs < 1) {
+    throw Error("depth-stats: gap " + std::to_string(o.gap) + " and pairs " + std::to_string(o.max_pairs) +
+                " must be >= 1");
+  }
   io::SequenceOptions so;
   so.max_frames = o.max_frames;
   const io::TumSequence seq = io::open_tum_sequence(dir, so);
   if (!seq.groundtruth) throw Error("depth-stats: '" + dir + "' has no groundtruth.txt");
   const int n = static_cast<int>(seq.frames.size());
-  if (o.gap < 1 || n <= o.gap) {
+  if (n <= o.gap) {
     throw Error("depth-stats: '" + dir + "' has " + std::to_string(n) + " frames, too few for gap " +
                 std::to_string(o.gap));
   }
   const int candidates = n - o.gap;
-  const int pairs = std::min(std::max(1, o.max_pairs), candidates);
+  const int pairs = std::min(o.max_pairs, candidates);
   const io::Intrinsics K = seq.intrinsics;
 
   DepthResidualStats s;

@@ -43,7 +43,8 @@ struct DepthResidualStats {
   double colour_falloff = 0;                 // k above; NaN when the motion does not observe it
 };
 
-// Throws bivo::Error when the sequence has no ground truth or fewer than gap + 1 frames.
+// Throws bivo::Error when gap or max_pairs is below 1, or the sequence has no ground truth or
+// fewer than gap + 1 frames.
 DepthResidualStats depth_residual_stats(const std::string& sequence_dir, const DepthResidualOptions& options);
 
 // Markdown table, one row per sequence.

@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include "experiments/depth_residual_stats.h"
 #include "odometry/synth/sequence.h"
+#include "solvers/error.h"
 
 using namespace bivo;
 namespace fs = std::filesystem;
@@ -96,4 +98,23 @@ TEST_F(ColourFalloff, IsNotReportedWhenTheCameraDoesNotMove) {
   EXPECT_TRUE(std::isnan(s.colour_falloff)) << s.colour_falloff;
   const std::string table = experiments::depth_residual_table({s});
   EXPECT_NE(table.find("| - |"), std::string::npos) << table;
+}
+
+// --pairs 0 or -1 ran one pair: a count below 1 is refused, naming the value, as is a gap below 1.
+TEST_F(ColourFalloff, PairsAndGapBelowOneAreRefused) {
+  for (const auto& [gap, pairs, message] :
+       {std::tuple{1, 0, "pairs 0"}, std::tuple{1, -1, "pairs -1"}, std::tuple{0, 5, "gap 0"}}) {
+    experiments::DepthResidualOptions o;
+    o.gap = gap;
+    o.max_pairs = pairs;
+    try {
+      experiments::depth_residual_stats(sequence("clean"), o);
+      ADD_FAILURE() << message << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  experiments::DepthResidualOptions o;
+  o.max_pairs = 3;
+  EXPECT_EQ(experiments::depth_residual_stats(sequence("clean"), o).pairs, 3);
 }

@@ -335,3 +335,10 @@ TEST_F(HardeningCli, CbfVarAndCon1073741824) {
   EXPECT_TRUE(contains(over.err, "--max-conic-size")) << over.err;
   expect_only({});
 }
+
+// depth-stats ran one pair for --pairs 0 or -1 and blamed the sequence's length for --gap 0.
+TEST_F(HardeningCli, DepthStatsPairsAndGapBelowOne) {
+  for (const char* flags : {"--pairs 0", "--pairs -1", "--gap 0"}) {
+    expect_clear_error(bivo("depth-stats " + q(sequence_) + " " + flags), "not in range 1 to 1000000");
+  }
+}

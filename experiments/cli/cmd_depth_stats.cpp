@@ -20,8 +20,12 @@ void add_depth_stats_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "depth-stats", "Depth residual at the true motion (mean, spread, correlation, radial and depth dependence)");
   cmd->add_option("sequences", a->sequences, "TUM sequence folders with groundtruth.txt")->required();
-  cmd->add_option("--gap", a->options.gap, "frames between the two images of a pair")->capture_default_str();
-  cmd->add_option("--pairs", a->options.max_pairs, "pairs spread evenly over each sequence")->capture_default_str();
+  cmd->add_option("--gap", a->options.gap, "frames between the two images of a pair")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--pairs", a->options.max_pairs, "pairs spread evenly over each sequence")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
   cmd->add_option("--max-frames", a->options.max_frames, "only the first N frames (-1: all)")->capture_default_str();
   cmd->callback([a] {
     std::vector<DepthResidualStats> rows;
