@@ -64,7 +64,7 @@ void check_matrix_options(const MatrixOptions& options) {
   if (options.sequences.empty()) throw Error("no sequences given");
   if (options.methods.empty()) throw Error("no methods given");
   for (const auto& m : options.methods) {
-    odometry::TrackerOptions t = options.tracker;
+    odometry::TrackerOptions t = with_frame_window(options.tracker, options.first_frame, options.max_frames);
     t.method = m.method;
     t.backend = m.backend;
     odometry::validate(t);

@@ -34,6 +34,10 @@ std::vector<double> log_grid(double lo, double hi, int n) {
 std::vector<SweepUnit> sweep_units(const SweepOptions& o) {
   if (o.sequences.empty()) throw Error("sweep: no sequences given");
   if (o.lambdas.empty() && o.epsilons.empty()) throw Error("sweep: neither lambdas nor epsilons given");
+  odometry::TrackerOptions window = with_frame_window(o.tracker, o.first_frame, o.max_frames);
+  window.method = "single";  // each unit's method is its own; the window is checked once
+  window.backend = "";
+  odometry::validate(window);
   std::vector<SweepUnit> units;
   for (int s = 0; s < int(o.sequences.size()); ++s) {
     units.push_back({s, "single", 0.0});

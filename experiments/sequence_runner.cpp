@@ -22,10 +22,14 @@ std::string effective_backend(const odometry::TrackerOptions& options) {
   return options.backend.empty() ? odometry::default_backend(odometry::parse_method(options.method)) : options.backend;
 }
 
+odometry::TrackerOptions with_frame_window(odometry::TrackerOptions tracker, int first_frame, int max_frames) {
+  tracker.first_frame = first_frame;
+  tracker.max_frames = max_frames;
+  return tracker;
+}
+
 RunOutcome run_sequence(const RunRequest& request, const std::function<void(const odometry::PairResult&)>& on_pair) {
-  odometry::TrackerOptions options = request.tracker;
-  options.first_frame = request.first_frame;
-  options.max_frames = request.max_frames;
+  const odometry::TrackerOptions options = with_frame_window(request.tracker, request.first_frame, request.max_frames);
   odometry::validate(options);
   const auto opened = request.opened ? request.opened : open_run_sequence(request);
   const odometry::io::TumSequence& seq = *opened;

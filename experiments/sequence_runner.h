@@ -52,6 +52,10 @@ struct RunOutcome {
   double readout_time = 0;                    // rolling-shutter readout used [s] (given or stated)
 };
 
+// `tracker` with a frame window given apart from it (RunRequest, a study's first_frame and
+// max_frames), as a run validates it: a study checks its window so before any unit runs.
+odometry::TrackerOptions with_frame_window(odometry::TrackerOptions tracker, int first_frame, int max_frames);
+
 // Throws bivo::Error on bad options (odometry::validate), a window outside the sequence
 // (naming the frame count) or fewer than 2 frames to process.
 RunOutcome run_sequence(const RunRequest& request,

@@ -342,3 +342,24 @@ TEST_F(HardeningCli, DepthStatsPairsAndGapBelowOne) {
     expect_clear_error(bivo("depth-stats " + q(sequence_) + " " + flags), "not in range 1 to 1000000");
   }
 }
+
+// A frame window the tracker refuses failed every unit after the others had run (table,
+// report, sweep, loso), and the demo only after rendering its sequences: now refused before
+// any work, nothing written.
+TEST_F(HardeningCli, FrameWindowsAreCheckedBeforeAnyUnit) {
+  const std::string seq = q(sequence_);
+  const fs::path out = dir_ / "out";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"table --sequences " + seq + " --methods single weighted --max-frames -3", "got -3"},
+      {"table --sequences " + seq + " --methods single --first-frame -2", "first frame must be >= 0, got -2"},
+      {"sweep --sequences " + seq + " --max-frames 1", "got 1"},
+      {"report --sequences " + seq + " --max-frames 4 --sweep-frames -3", "got -3"},
+      {"loso --sequences " + seq + " " + seq + " --method robust --parameter trust --grid 1 --max-frames 0", "got 0"},
+      {"demo --sweep-frames -3", "got -3"},
+      {"demo --levels 0", "levels must be in 1..8, got 0"},
+  };
+  for (const auto& [command, message] : cases) {
+    expect_clear_error(bivo(command + " --output " + q(out)), message);
+    EXPECT_FALSE(fs::exists(out)) << command;
+  }
+}

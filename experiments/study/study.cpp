@@ -113,7 +113,7 @@ void check_loso(const LosoOptions& o) {
   loso_units(o);
   const std::vector<int> levels = o.finest_levels.empty() ? std::vector<int>{o.tracker.finest_level} : o.finest_levels;
   for (int level : levels) {
-    odometry::TrackerOptions at_level = o.tracker;
+    odometry::TrackerOptions at_level = with_frame_window(o.tracker, o.first_frame, o.max_frames);
     at_level.finest_level = level;
     at_level.backend = "";
     for (const std::vector<double>& setting : loso_settings(o)) {
