@@ -136,13 +136,14 @@ std::vector<ProfileRow> run_profile(const ProfileOptions& o) {
     req.tracker = o.tracker;
     req.tracker.method = m.method;
     req.tracker.backend = m.backend;
-    odometry::validate(req.tracker);
     req.tracker.evaluate_unused_objective = true;  // single's F_D is the reference of the F_D ratio
     req.first_frame = o.first_frame;
     req.max_frames = o.max_frames;
     if (m.backend.rfind("ipm-", 0) == 0 && o.socp_max_frames > 0) {
       req.max_frames = o.max_frames > 0 ? std::min(o.max_frames, o.socp_max_frames) : o.socp_max_frames;
     }
+    // Each method's window as its runs will check it, before any run.
+    odometry::validate(with_frame_window(req.tracker, req.first_frame, req.max_frames));
     req.progress = o.progress;
     requests.push_back(req);
   }

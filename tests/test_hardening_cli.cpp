@@ -363,3 +363,15 @@ TEST_F(HardeningCli, FrameWindowsAreCheckedBeforeAnyUnit) {
     EXPECT_FALSE(fs::exists(out)) << command;
   }
 }
+
+// profile wrote a row of zeros and exited 0 for a method whose runs failed, and ran the
+// warm-up before refusing a frame window.
+TEST_F(HardeningCli, ProfileFailuresExitOne) {
+  const fs::path out = dir_ / "out";
+  const std::string profile = "profile " + q(sequence_) + " --methods single:gn --repetitions 1 ";
+  expect_clear_error(bivo(profile + "--max-frames -3 --output " + q(out)), "got -3");
+  EXPECT_FALSE(fs::exists(out));
+  expect_clear_error(bivo(profile + "--first-frame 100 --output " + q(out)), "1 of 1 unit(s) failed");
+  EXPECT_TRUE(fs::exists(out / "profile.md"));  // written, its note saying why
+  EXPECT_EQ(bivo(profile + "--first-frame 100 --keep-going --output " + q(dir_ / "kept")).status, 0);
+}

@@ -19,6 +19,7 @@ void add_profile_command(CLI::App& app) {
     std::vector<std::string> methods{"single:gn",     "single:lm",        "single:ceres",          "weighted:gn",
                                      "bounded:exact", "bounded:ipm-full", "bounded:ipm-compressed"};
     std::string output;
+    bool keep_going = false;
   };
   auto a = std::make_shared<Args>();
   auto* cmd =
@@ -38,13 +39,21 @@ void add_profile_command(CLI::App& app) {
       ->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for profile.md / .csv / .json")->required();
+  add_keep_going_flag(cmd, a->keep_going);
   cmd->callback([a] {
     check_output_folder({"--output", a->output}, {{"sequence", a->o.sequence_dir}, a->tracker->config_input()});
     ProfileOptions o = a->o;
     for (const auto& m : a->methods) o.methods.push_back(parse_method_spec(m));
     o.tracker = a->tracker->options();
-    std::cout << write_profile(run_profile(o), a->output);
+    const std::vector<ProfileRow> rows = run_profile(o);
+    std::cout << write_profile(rows, a->output);
     write_tracker_config(a->output + "/config.json", o.tracker);
+    // A method whose runs failed is a row of zeros with its note: not a profile to exit 0 on.
+    std::vector<std::string> failures;
+    for (const ProfileRow& r : rows) {
+      if (!r.note.empty()) failures.push_back(r.method + " (" + r.backend + "): " + r.note);
+    }
+    finish_with_failures(failures, static_cast<int>(rows.size()), a->keep_going);
   });
 }
 
