@@ -55,6 +55,15 @@ std::vector<StudyPoint> front_points(const solvers::ParetoFront& front, odometry
   return out;
 }
 
+// single at the study's level: the tracker of the pair's start and of its problem.
+odometry::TrackerOptions pareto_tracker(const ParetoStudyOptions& o) {
+  odometry::TrackerOptions base = o.tracker;
+  base.method = "single";
+  base.backend = "";
+  base.finest_level = o.level;
+  return base;
+}
+
 }  // namespace
 
 void check_pareto_study_options(const ParetoStudyOptions& o) {
@@ -62,6 +71,7 @@ void check_pareto_study_options(const ParetoStudyOptions& o) {
     throw Error("pareto: points per sweep must be in 2..1000, got " + std::to_string(o.points));
   }
   if (!o.backend.empty()) solvers::backend_info(o.backend);  // throws listing the valid names
+  solvers::check_lambda_range(o.lambda_min, o.lambda_max);
   // The fronts are swept on one problem of the frames as given: a method estimated on retimed
   // depth or global-shutter colour would be scored on other data than it used.
   if (o.tracker.retime_depth != 0) {
@@ -74,21 +84,20 @@ void check_pareto_study_options(const ParetoStudyOptions& o) {
     throw Error("pareto: --readout-time " + value.str() +
                 ": the fronts use the colour images as taken; sweep without it");
   }
-}
-
-ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  check_pareto_study_options(o);
-  odometry::TrackerOptions base = o.tracker;
-  base.method = "single";
-  base.backend = "";
-  base.finest_level = o.level;
+  // The level and the marked methods as the tracker takes them.
+  const odometry::TrackerOptions base = pareto_tracker(o);
   odometry::validate(base);
   for (const auto& m : o.methods) {
     odometry::TrackerOptions t = base;
     t.method = m;
     odometry::validate(t);
   }
+}
+
+ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_pareto_study_options(o);
+  const odometry::TrackerOptions base = pareto_tracker(o);
   const odometry::FramePair pair = odometry::load_frame_pair(o.sequence_dir, o.pair, o.pair + 1, base);
   ParetoStudy study;
   study.sequence = pair.sequence;

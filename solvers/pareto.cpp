@@ -42,14 +42,18 @@ void check_common(const BiObjectiveProblem& problem, const Eigen::VectorXd& x0, 
 
 }  // namespace
 
-ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0, const ParetoOptions& options) {
-  check_common(problem, x0, options);
-  if (!(options.lambda_min > 0.0) || !(options.lambda_max > options.lambda_min) || !std::isfinite(options.lambda_max)) {
+void check_lambda_range(double lambda_min, double lambda_max) {
+  if (!(lambda_min > 0.0) || !(lambda_max > lambda_min) || !std::isfinite(lambda_max)) {
     std::ostringstream msg;
-    msg << "Pareto lambda sweep: need 0 < lambda_min < lambda_max < inf, got [" << options.lambda_min << ", "
-        << options.lambda_max << "]";
+    msg << "Pareto lambda sweep: need 0 < lambda_min < lambda_max < inf, got [" << lambda_min << ", " << lambda_max
+        << "]";
     throw Error(msg.str());
   }
+}
+
+ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0, const ParetoOptions& options) {
+  check_common(problem, x0, options);
+  check_lambda_range(options.lambda_min, options.lambda_max);
   const std::string backend =
       options.backend.empty() ? default_backend(ScalarizationKind::kWeightedSum) : options.backend;
   ParetoFront front;

@@ -61,6 +61,9 @@ struct ParetoFront {
 };
 
 ParetoFront sweep_lambda(BiObjectiveProblem& problem, const Eigen::VectorXd& x0, const ParetoOptions& options = {});
+// sweep_lambda's range check, for callers that check options before any work: throws
+// bivo::Error unless 0 < lambda_min < lambda_max < inf.
+void check_lambda_range(double lambda_min, double lambda_max);
 ParetoFront sweep_epsilon(BiObjectiveProblem& problem, const Eigen::VectorXd& x0, const ParetoOptions& options = {});
 
 // a dominates b: a is no worse in both objectives and strictly better in one.

@@ -344,9 +344,9 @@ TEST_F(HardeningCli, DepthStatsPairsAndGapBelowOne) {
 }
 
 // A frame window the tracker refuses failed every unit after the others had run (table,
-// report, sweep, loso), and the demo only after rendering its sequences: now refused before
-// any work, nothing written.
-TEST_F(HardeningCli, FrameWindowsAreCheckedBeforeAnyUnit) {
+// report, sweep, loso), the demo only after rendering its sequences, and pareto's lambda
+// range and level inside each pair's unit: now refused before any work, nothing written.
+TEST_F(HardeningCli, BadValuesAreRefusedBeforeAnyUnit) {
   const std::string seq = q(sequence_);
   const fs::path out = dir_ / "out";
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -357,6 +357,8 @@ TEST_F(HardeningCli, FrameWindowsAreCheckedBeforeAnyUnit) {
       {"loso --sequences " + seq + " " + seq + " --method robust --parameter trust --grid 1 --max-frames 0", "got 0"},
       {"demo --sweep-frames -3", "got -3"},
       {"demo --levels 0", "levels must be in 1..8, got 0"},
+      {"pareto " + seq + " --pair 0 --lambda-min 10 --lambda-max 1", "got [10, 1]"},
+      {"pareto " + seq + " --pair 0 --level 9", "finest level must be in 0..3, got 9"},
   };
   for (const auto& [command, message] : cases) {
     expect_clear_error(bivo(command + " --output " + q(out)), message);
