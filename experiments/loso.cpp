@@ -10,6 +10,7 @@
 #include "experiments/result_table.h"
 #include "experiments/sequence_runner.h"
 #include "experiments/tracker_option_table.h"
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
@@ -177,10 +178,11 @@ void run_loso_unit(const LosoOptions& o, LosoRun& r) {
   try {
     const RunOutcome run = run_sequence(req);
     if (!run.groundtruth) throw Error("loso: sequence '" + dir + "' has no groundtruth.txt");
-    const auto rpe = odometry::io::relative_pose_error(*run.groundtruth, run.trajectory);
-    if (rpe.pairs.empty()) throw Error("loso: sequence '" + dir + "' is shorter than one RPE window (1 s)");
-    r.rpe_trans = rpe.trans_rmse;
-    r.rpe_rot = rpe.rot_rmse_deg;
+    std::string why;  // a sequence too short to score cannot be held out or chosen on
+    const auto rpe = rpe_if_long_enough(*run.groundtruth, run.trajectory, o.rpe_delta, why);
+    if (!rpe) throw Error("loso: sequence '" + dir + "': " + why);
+    r.rpe_trans = rpe->trans_rmse;
+    r.rpe_rot = rpe->rot_rmse_deg;
     r.median_cpu_ms = run.median_cpu_ms;
     for (const auto& p : run.pairs) {
       if (!p.error) continue;
@@ -338,8 +340,9 @@ std::string write_loso(const LosoResult& result, const std::string& dir) {
   for (const LosoParameter& p : o.parameters) names.push_back(p.name);
   for (int level : o.finest_levels) levels.push_back(std::to_string(level));
   std::ostringstream md, csv, runs_csv, pairs_csv;
-  md << "Held-out RPE trans [m/s] / rot [deg/s] (ratio to " << o.reference << "; largest per-pair rotation error); "
-     << o.method << "'s " << listed(names) << (several ? " chosen together" : " chosen") << " on the other sequences";
+  md << "Held-out RPE trans [" << rpe_unit("m", o.rpe_delta) << "] / rot [" << rpe_unit("deg", o.rpe_delta)
+     << "] (ratio to " << o.reference << "; largest per-pair rotation error); " << o.method << "'s " << listed(names)
+     << (several ? " chosen together" : " chosen") << " on the other sequences";
   if (pooled) md << ", at finest levels " << listed(levels) << " at once";
   if (o.acceptable_ratio > 0.0) {
     md << "; of the settings within " << o.acceptable_ratio << "x " << o.reference

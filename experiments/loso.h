@@ -43,6 +43,7 @@ struct LosoOptions {
   // the choice covers them all; empty: tracker.finest_level alone.
   std::vector<int> finest_levels;
   int first_frame = 0, max_frames = -1;
+  double rpe_delta = 1.0;  // RPE window [s]; every sequence must span two
   int progress = -1;
   // A CPU budget (0: none), for a speed setting: in each fold only the settings whose CPU per
   // pair over the other sequences (the geometric mean of the sequences' ratios of medians) is
@@ -66,7 +67,7 @@ struct LosoRun {
   int finest_level = -1;       // with pooled finest levels, the run's; -1: tracker.finest_level
   bool ok = false;
   std::string sequence_name, error;
-  double rpe_trans = 0.0, rpe_rot = 0.0;  // RMSE over 1-s windows [m/s], [deg/s]
+  double rpe_trans = 0.0, rpe_rot = 0.0;  // RMSE over LosoOptions::rpe_delta windows [m], [deg] per window
   double median_cpu_ms = 0.0;
   std::vector<double> pair_trans, pair_rot;  // per-pair errors against ground truth [m], [deg]
 };

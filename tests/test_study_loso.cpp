@@ -109,6 +109,15 @@ TEST(LosoStudy, FileRoundTripsAndTheHashCoversTheLosoPart) {
   nlohmann::json negative = j;
   negative["loso"]["acceptable_ratio"] = -1.0;
   EXPECT_NE(error_of([&] { study_from_json(negative, "s.json"); }).find("acceptable_ratio"), std::string::npos);
+  // The RPE window scores every run: hashed, absent at its default of 1 s, read back.
+  EXPECT_EQ(j["loso"].count("rpe_delta"), 0u);
+  EXPECT_NE(hash_with([](Study& t) { t.loso->rpe_delta = 0.5; }), h);
+  Study windowed = s;
+  windowed.loso->rpe_delta = 0.5;
+  EXPECT_EQ(study_from_json(nlohmann::json::parse(study_to_json(windowed).dump()), "s.json").loso->rpe_delta, 0.5);
+  nlohmann::json zero_window = j;
+  zero_window["loso"]["rpe_delta"] = 0.0;
+  EXPECT_NE(error_of([&] { study_from_json(zero_window, "s.json"); }).find("rpe_delta"), std::string::npos);
   // A cost budget chooses among finished runs: the same runs merge under any budget.
   EXPECT_EQ(j["loso"].count("cost_budget"), 0u);  // none: the file of a study planned without one
   Study budgeted = s;
@@ -416,4 +425,21 @@ TEST(LosoStudy, SeveralParametersAtPooledLevelsMergeToTheFilesOfOneProcess) {
   EXPECT_EQ(
       slurp(root / "one" / "pairs.csv").rfind("sequence,method,value:trust,value:robust_kappa,finest_level,pair,", 0),
       0u);
+}
+
+// loso had no --delta: sequences spanning fewer than two 1-s windows could not be studied.
+TEST(LosoStudy, TheRpeWindowIsAFlag) {
+  const TempDir temp("bivo_loso_delta");
+  const fs::path& root = temp.path;
+  std::string flags = "--sequences";
+  for (const auto& s : render_test_sequences(root / "sequences")) flags += " " + q(s);
+  flags += " --method robust --parameter trust --grid 1e12 --max-frames 4 --levels 4 --finest-level 3 --output ";
+  // 4 frames at 2 Hz span 1.5 s: too short for two 1-s windows, named, nothing written.
+  const Shell one_second = shell(bivo_cli() + " loso " + flags + q(root / "one"), root);
+  EXPECT_EQ(one_second.status, 1);
+  EXPECT_NE(one_second.err.find("windows of 1"), std::string::npos) << one_second.err;
+  EXPECT_FALSE(fs::exists(root / "one"));
+  const Shell half = shell(bivo_cli() + " loso " + flags + q(root / "half") + " --delta 0.5", root);
+  ASSERT_EQ(half.status, 0) << half.err;
+  EXPECT_NE(slurp(root / "half" / "loso.md").find("RPE trans [m per 0.5 s]"), std::string::npos);
 }

@@ -97,6 +97,9 @@ StudyFactory add_loso_flags(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
+  cmd->add_option("--delta", a->o.rpe_delta, "RPE window [s] (every sequence must span two)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1e6));
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);
   cmd->add_option("--output", a->output, "folder for loso.md / loso.csv / runs.csv / pairs.csv")->required();
   return [a] {

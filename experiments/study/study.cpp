@@ -74,6 +74,7 @@ json parts_json(const Study& s) {
         j["loso"]["parameters"].push_back({{"parameter", p.name}, {"grid", p.grid}});
     }
     if (!o.finest_levels.empty()) j["loso"]["finest_levels"] = o.finest_levels;  // absent: the tracker's
+    if (o.rpe_delta != 1.0) j["loso"]["rpe_delta"] = o.rpe_delta;                // absent: 1 s
     j["loso"]["acceptable_ratio"] = o.acceptable_ratio;
     if (o.cost_budget > 0.0) {  // absent: none, as planned before budgets existed
       j["loso"]["cost_budget"] = o.cost_budget;
@@ -287,6 +288,7 @@ Study study_from_json(const json& j, const std::string& where) {
     o.methods = lr.strings("methods");
     o.first_frame = lr.integer("first_frame", 0);
     o.max_frames = lr.integer("max_frames", -1);
+    lr.number("rpe_delta", o.rpe_delta, 1e-3, 1e6);                                    // absent: 1 s
     lr.number("cost_budget", o.cost_budget, 0.0, std::numeric_limits<double>::max());  // absent: none
     lr.string("cost_method", o.cost_method);
     o.acceptable_ratio = 0.0;  // absent: the smallest worst ratio decides, as planned before the rule
