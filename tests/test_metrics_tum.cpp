@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "experiments/trajectory_evaluation.h"
 #include "odometry/io/metrics.h"
 #include "solvers/error.h"
 #include "solvers/geometry/se3.h"
@@ -228,4 +229,23 @@ TEST(MetricsAssociate, GreedyOneToOneBySmallestDifference) {
   // Strictly less than max_dt, as evaluate_ate.py.
   EXPECT_TRUE(associate_timestamps({1.0}, {1.5}, 0.5).empty());
   EXPECT_EQ(associate_timestamps({1.0}, {1.25}, 0.5).size(), 1u);
+}
+
+// The windows counted before scoring are the ones relative_pose_error scores: 2 Hz poses over
+// 1-s windows, whose end may not be the last pose. "Too short" runs counted one window more
+// (4 poses: 2 counted, 1 scored), so such a run failed its cell instead of saying so.
+TEST(MetricsRpe, TheWindowCountIsTheScoredWindows) {
+  const auto gt = sampled(generic_pose, 100.0, 400);
+  for (const auto& [poses, windows] : {std::pair{3, 0}, std::pair{4, 1}, std::pair{5, 2}, std::pair{8, 5}}) {
+    const Trajectory est = sampled(generic_pose, 2.0, poses);
+    EXPECT_EQ(rpe_window_count(est, 1.0), windows) << poses << " poses";
+    if (windows >= 2) {
+      EXPECT_EQ(int(relative_pose_error(gt, est).pairs.size()), windows) << poses << " poses";
+    } else {
+      EXPECT_THROW(relative_pose_error(gt, est), Error) << poses << " poses";
+    }
+  }
+  std::string why;
+  EXPECT_FALSE(bivo::experiments::rpe_if_long_enough(gt, sampled(generic_pose, 2.0, 4), 1.0, why));
+  EXPECT_EQ(why.rfind("too short", 0), 0u) << why;
 }

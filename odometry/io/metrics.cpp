@@ -63,6 +63,26 @@ std::string range_text(const Trajectory& t) {
 
 }  // namespace
 
+namespace {
+
+// evaluate_rpe.py --fixed_delta: the window from estimate frame i ends at the estimate frame
+// nearest to t_i + delta; windows whose end falls on the last frame are skipped (the script's
+// `if j != len-1`), which also drops every window reaching past the end of the estimate.
+// -1: no window from i.
+int window_end(const std::vector<double>& est_stamps, int i, double delta_s) {
+  const int j = closest_index(est_stamps, est_stamps[i] + delta_s);
+  return j == int(est_stamps.size()) - 1 ? -1 : j;
+}
+
+}  // namespace
+
+int rpe_window_count(const Trajectory& estimate, double delta_s) {
+  const std::vector<double> est_stamps = stamps_of(estimate);
+  int count = 0;
+  for (int i = 0; i < int(est_stamps.size()); ++i) count += window_end(est_stamps, i, delta_s) >= 0;
+  return count;
+}
+
 RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& estimate, const RpeOptions& options) {
   if (groundtruth.empty() || estimate.empty()) throw Error("relative_pose_error: empty trajectory");
   if (!(options.delta_s > 0) || !(options.max_dt >= 0)) {
@@ -75,11 +95,8 @@ RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& e
 
   RpeResult result;
   for (int i = 0; i < n; ++i) {
-    // evaluate_rpe.py --fixed_delta: j is the estimate frame nearest to t_i + delta; windows
-    // whose end falls on the last frame are skipped (the script's `if j != len-1`), which also
-    // drops every window reaching past the end of the estimate.
-    const int j = closest_index(est_stamps, est_stamps[i] + options.delta_s);
-    if (j == n - 1) continue;
+    const int j = window_end(est_stamps, i, options.delta_s);
+    if (j < 0) continue;
     const int g0 = closest_index(gt_stamps, est_stamps[i]);
     const int g1 = closest_index(gt_stamps, est_stamps[j]);
     if (std::abs(gt_stamps[g0] - est_stamps[i]) > options.max_dt ||
