@@ -359,6 +359,8 @@ TEST_F(HardeningCli, BadValuesAreRefusedBeforeAnyUnit) {
       {"demo --levels 0", "levels must be in 1..8, got 0"},
       {"pareto " + seq + " --pair 0 --lambda-min 10 --lambda-max 1", "got [10, 1]"},
       {"pareto " + seq + " --pair 0 --level 9", "finest level must be in 0..3, got 9"},
+      {"sweep --sequences " + seq + " --eps-points -1", "--eps-points: Value -1 not in range 0 to 1000"},
+      {"report --sequences " + seq + " --lambda-points 2000000000", "--lambda-points: Value 2000000000 not in range"},
   };
   for (const auto& [command, message] : cases) {
     expect_clear_error(bivo(command + " --output " + q(out)), message);

@@ -33,10 +33,14 @@ StudyFactory add_report_flags(CLI::App* cmd) {
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 1e6));
   cmd->add_option("--sweep-frames", a->o.sweep_max_frames, "frames per sweep run")->capture_default_str();
-  cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: none)")->capture_default_str();
+  cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_option("--lambda-min", a->lambda_min, "smallest lambda")->capture_default_str();
   cmd->add_option("--lambda-max", a->lambda_max, "largest lambda")->capture_default_str();
-  cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: none)")->capture_default_str();
+  cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_option("--eps-min", a->eps_min, "smallest epsilon per unit weight [m^2]")->capture_default_str();
   cmd->add_option("--eps-max", a->eps_max, "largest epsilon")->capture_default_str();
   a->tracker = std::make_shared<TrackerFlags>(cmd, false);

@@ -24,10 +24,13 @@ StudyFactory add_sweep_flags(CLI::App* cmd) {
   cmd->add_option("--lambda-min", a->lambda_min, "smallest lambda [gray^2/m^2]")->capture_default_str();
   cmd->add_option("--lambda-max", a->lambda_max, "largest lambda")->capture_default_str();
   cmd->add_option("--lambda-points", a->lambda_points, "lambda grid points (0: no lambda sweep)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_option("--eps-min", a->eps_min, "smallest bound on F_D per unit weight [m^2]")->capture_default_str();
   cmd->add_option("--eps-max", a->eps_max, "largest bound")->capture_default_str();
-  cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: no epsilon sweep)")->capture_default_str();
+  cmd->add_option("--eps-points", a->eps_points, "epsilon grid points (0: no epsilon sweep)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_option("--eps-backend", a->o.epsilon_backend, "backend of the bounded runs (default exact)");
   cmd->add_option("--first-frame", a->o.first_frame, "first associated frame")->capture_default_str();
   cmd->add_option("--max-frames", a->o.max_frames, "frames per run (-1: all)")->capture_default_str();
