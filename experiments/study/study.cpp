@@ -170,17 +170,9 @@ void check_study(const Study& s) {
   if (s.sweep && (sweep || !s.sweep->sequences.empty())) sweep_units(sweep_options(s));
   if (s.pareto) {
     if (pareto && s.pareto->pairs.empty()) throw Error("study: the pareto part has no pairs");
-    check_pareto_study_options(s.pareto->options);
-    for (size_t k = 0; k < s.pareto->pairs.size(); ++k) {
-      ParetoStudyOptions o = pareto_options(s, int(k));
-      o.tracker.method = "single";
-      o.tracker.backend = "";
-      odometry::validate(o.tracker);
-      for (const auto& m : o.methods) {
-        o.tracker.method = m;
-        odometry::validate(o.tracker);
-      }
-    }
+    ParetoStudyOptions o = s.pareto->options;
+    o.tracker = s.tracker;  // as every pair's unit runs (pareto_options): the pairs differ in frames only
+    check_pareto_study_options(o);
   }
   if (s.loso) check_loso(loso_options(s));
 }

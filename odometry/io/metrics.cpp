@@ -61,10 +61,6 @@ std::string range_text(const Trajectory& t) {
   return s.str();
 }
 
-}  // namespace
-
-namespace {
-
 // evaluate_rpe.py --fixed_delta: the window from estimate frame i ends at the estimate frame
 // nearest to t_i + delta; windows whose end falls on the last frame are skipped (the script's
 // `if j != len-1`), which also drops every window reaching past the end of the estimate.

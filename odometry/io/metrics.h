@@ -40,11 +40,11 @@ struct RpeResult {
   double rot_rmse_deg = 0, rot_mean_deg = 0, rot_max_deg = 0;              // degrees per window
 };
 
-// Relative pose error over windows of delta_s seconds of the estimate's own timestamps.
 // The windows of delta_s seconds relative_pose_error takes from `estimate` before matching the
 // ground truth: one per estimate stamp whose nearest stamp delta_s later is not the last.
 int rpe_window_count(const Trajectory& estimate, double delta_s);
 
+// Relative pose error over windows of delta_s seconds of the estimate's own timestamps.
 RpeResult relative_pose_error(const Trajectory& groundtruth, const Trajectory& estimate,
                               const RpeOptions& options = {});
 
