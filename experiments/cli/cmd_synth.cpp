@@ -83,10 +83,21 @@ bool motion_or_naming(const std::string& name) {
   return false;
 }
 
-// The scene's layout: a profile's sensor may be placed in a scene whose depths match a real
-// recording's (docs/results/stress-set.md).
+// The scene's layout flags and what they set: a profile's sensor may be placed in a scene
+// whose depths match a real recording's (docs/results/stress-set.md).
+struct LayoutFlag {
+  const char* name;
+  double odometry::synth::SceneLayout::*field;
+};
+constexpr LayoutFlag kLayoutFlags[] = {{"--wall-behind", &odometry::synth::SceneLayout::wall_behind_m},
+                                       {"--view-distance", &odometry::synth::SceneLayout::distance_m},
+                                       {"--view-pitch", &odometry::synth::SceneLayout::pitch_deg}};
+
 bool scene_layout(const std::string& name) {
-  return name == "--wall-behind" || name == "--view-distance" || name == "--view-pitch";
+  for (const LayoutFlag& f : kLayoutFlags) {
+    if (name == f.name) return true;
+  }
+  return false;
 }
 
 void refuse_per_sequence_options(const CLI::App& cmd, const char* set, bool allow_frames) {
@@ -175,9 +186,9 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
     const synth::SynthOptions given = o;
     synth::apply_stress_profile(a.stress_profile, o);
     // A layout given on the command line wins over the profile's scene.
-    if (cmd.get_option("--wall-behind")->count() > 0) o.layout.wall_behind_m = given.layout.wall_behind_m;
-    if (cmd.get_option("--view-distance")->count() > 0) o.layout.distance_m = given.layout.distance_m;
-    if (cmd.get_option("--view-pitch")->count() > 0) o.layout.pitch_deg = given.layout.pitch_deg;
+    for (const LayoutFlag& f : kLayoutFlags) {
+      if (cmd.get_option(f.name)->count() > 0) o.layout.*f.field = given.layout.*f.field;
+    }
     // Motion given on the command line wins over the profile's generated motion.
     if (cmd.get_option("--speed")->count() > 0) o.handheld.mean_linear_speed_mps = given.handheld.mean_linear_speed_mps;
     if (cmd.get_option("--angular-speed")->count() > 0)
