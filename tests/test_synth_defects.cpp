@@ -304,6 +304,7 @@ TEST(SynthDefects, StressSetCrossesDefectsWithStructureAndTexture) {
     EXPECT_TRUE(s.options.render.defects.depth_outliers());
     EXPECT_GT(s.options.render.defects.disparity_offset_step_px, 0.0);
     EXPECT_EQ(s.options.render.defects.noise_exponent, s.trajectory.empty() ? 2.0 : 3.0);
+    EXPECT_EQ(s.options.render.depth.noise_correlation_px, s.trajectory.empty() ? 3.0 : 2.0);
     EXPECT_EQ(s.options.frames, 5);
     structure += s.options.category.structure;
     texture += s.options.category.texture;

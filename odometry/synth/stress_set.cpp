@@ -66,6 +66,10 @@ void apply_stress_profile(const std::string& profile, SynthOptions& o) {
   // distortion; the fixed pattern does not cancel at this speed anyway.
   SensorDefects& d = o.render.defects;
   o.render.depth.noise_coeff = 2.4e-3;
+  // Its depth error correlated over a wider window: the real fr1/rpy residual's correlation
+  // length is 5.6 px over all its pairs; 2 px (the renderer's default) gives 3.5-3.8 px in
+  // scenes as deep as the recording's, 3 px gives 5.4.
+  o.render.depth.noise_correlation_px = 3.0;
   d.static_noise_share = 0.0;
   d.bias_radial = 0.01;
   d.bias_lowfreq = 0.004;
