@@ -1,10 +1,11 @@
 // The stress set's fast profile against the real sensor it stands for (docs/results/stress-set.md):
 // rendered along real fr1/rpy's ground truth in a scene placed to that recording's depths (camera
 // 0.9 m away, pitched 12 deg, wall 1.8 m behind), its depth residual at the true motion is
-// correlated over the real frames' length within the factor 1.5 (`bivo depth-stats`'
-// 1/e lag over all 239 pairs: at 40 pairs the renderer's former 2 px still read 0.69x, at 239
-// 0.63x; a minute's rendering). Needs ../shared; skipped without it.
+// correlated over the real frames' length within the factor 1.5 (`bivo depth-stats`' 1/e
+// lag). All 239 pairs: over fewer the statistic does not separate a 2 px correlation from 3 px.
+// Needs ../shared; skipped without it.
 #include <filesystem>
+#include <iostream>
 #include <string>
 
 #include <gtest/gtest.h>
