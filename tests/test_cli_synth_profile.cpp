@@ -84,3 +84,28 @@ TEST_F(SynthProfile, SensorFlagsAreRefusedBesideAProfile) {
                      "--stress-profile fixes the sensor; drop --depth-noise");
   EXPECT_FALSE(fs::exists(tmp_.path / "n_freiburg3"));
 }
+
+TEST_F(SynthProfile, WithoutSwitchesOffTheNamedDefectsOfTheProfile) {
+  const BivoRun own = bivo(kDeep + out("own_freiburg3"));
+  ASSERT_EQ(own.status, 0) << own.err;
+  const BivoRun less = bivo(kDeep + out("less_freiburg3") + " --without vignetting,depth-bias");
+  ASSERT_EQ(less.status, 0) << less.err;
+  json a = scene("own_freiburg3")["sensor_defects"], b = scene("less_freiburg3")["sensor_defects"];
+  EXPECT_GT(a["bias_radial"].get<double>(), 0.0);
+  EXPECT_GT(a["gain_step"].get<double>(), 0.0);
+  EXPECT_EQ(b["vignetting"].get<double>(), 0.0);
+  EXPECT_EQ(b["bias_radial"].get<double>(), 0.0);
+  EXPECT_EQ(b["bias_lowfreq"].get<double>(), 0.0);
+  // Every other defect as the profile's.
+  for (const char* key : {"vignetting", "bias_radial", "bias_lowfreq"}) a.erase(key), b.erase(key);
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(SynthProfile, WithoutIsRefusedWithoutAProfileOrWithAnUnknownDefect) {
+  expect_clear_error(
+      bivo("synth --category structure_texture_far --frames 2 --threads 1" + out("w_freiburg3") + " --without gain"),
+      "--without needs --stress-profile");
+  expect_clear_error(bivo(kDeep + out("u_freiburg3") + " --without shutter"), "unknown sensor defect 'shutter'");
+  EXPECT_FALSE(fs::exists(tmp_.path / "w_freiburg3"));
+  EXPECT_FALSE(fs::exists(tmp_.path / "u_freiburg3"));
+}

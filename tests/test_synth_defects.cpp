@@ -282,6 +282,51 @@ TEST(SynthDefects, NoDefectMeansTheUntimedRenderer) {
   EXPECT_FALSE(r.defects.any());
 }
 
+// Each class switches off its own defect and no other; together they leave the fast
+// profile's sensor without any defect (the untimed renderer, above).
+TEST(SynthDefects, EachDefectClassSwitchesOffItsOwnDefectOnly) {
+  synth::SynthOptions o;
+  synth::apply_stress_profile("fast", o);
+  const synth::SensorDefects all = o.render.defects;
+  ASSERT_TRUE(all.depth_bias() && all.misregistered() && all.unsynchronized() && all.depth_outliers());
+  ASSERT_TRUE(all.readout_s > 0 && all.exposure_s > 0 && all.gain_step > 0 && all.vignetting > 0);
+  const auto without = [&](const std::string& name) {
+    synth::SensorDefects d = all;
+    synth::switch_off(d, name);
+    return d;
+  };
+  const synth::SensorDefects rs = without("rolling-shutter"), blur = without("blur");
+  EXPECT_EQ(rs.readout_s, 0.0);
+  EXPECT_EQ(rs.exposure_s, all.exposure_s);
+  EXPECT_EQ(blur.exposure_s, 0.0);
+  EXPECT_EQ(blur.readout_s, all.readout_s);
+  EXPECT_EQ(without("vignetting").vignetting, 0.0);
+  EXPECT_EQ(without("vignetting").gain_step, all.gain_step);
+  EXPECT_EQ(without("gain").gain_step, 0.0);
+  EXPECT_EQ(without("gain").vignetting, all.vignetting);
+  EXPECT_FALSE(without("depth-bias").depth_bias());
+  EXPECT_TRUE(without("depth-bias").misregistered());
+  EXPECT_FALSE(without("misregistration").misregistered());
+  EXPECT_TRUE(without("misregistration").unsynchronized());
+  EXPECT_FALSE(without("depth-delay").unsynchronized());
+  EXPECT_TRUE(without("depth-delay").depth_bias());
+  EXPECT_FALSE(without("outliers").depth_outliers());
+  EXPECT_EQ(without("outliers").disparity_offset_step_px, all.disparity_offset_step_px);
+  EXPECT_EQ(without("disparity-offset").disparity_offset_step_px, 0.0);
+  EXPECT_TRUE(without("disparity-offset").depth_outliers());
+  synth::SensorDefects none = all;
+  for (const std::string& name : synth::defect_class_names()) synth::switch_off(none, name);
+  EXPECT_FALSE(none.any());
+  EXPECT_EQ(synth::defect_class_names().size(), 9u);
+  try {
+    synth::switch_off(none, "shutter");
+    ADD_FAILURE() << "an unknown defect class was accepted";
+  } catch (const bivo::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown sensor defect 'shutter' (one of: rolling-shutter"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SynthDefects, RetimedMotionCoversTheSameMotionInFewerFrames) {
   synth::HandheldMotionOptions h;
   h.duration_s = 6.0;

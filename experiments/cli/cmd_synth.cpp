@@ -31,6 +31,7 @@ struct SynthArgs {
   odometry::synth::SynthOptions options;
   bool no_noise = false, benchmark_set = false, stress_set = false, force = false;
   std::vector<double> depth_offset, depth_rotation, depth_delay;
+  std::vector<std::string> without;  // defect classes a stress profile is rendered without
 };
 
 // Options that would change a benchmark rendering: refused with --benchmark-set.
@@ -72,7 +73,8 @@ const char* const kPerSequenceOptions[] = {"--distance",
                                            "--disparity-offset",
                                            "--disparity-offset-memory",
                                            "--speckle-outliers",
-                                           "--flying-pixels"};
+                                           "--flying-pixels",
+                                           "--without"};
 
 // What a stress profile fixes: every rendering flag but the motion, length and naming ones.
 bool motion_or_naming(const std::string& name) {
@@ -179,7 +181,8 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
   o.category = synth::parse_category(a.category, a.distance);
   if (!a.stress_profile.empty()) {
     for (const char* name : kPerSequenceOptions) {
-      if (!motion_or_naming(name) && !scene_layout(name) && cmd.get_option(name)->count() > 0) {
+      if (!motion_or_naming(name) && !scene_layout(name) && std::string(name) != "--without" &&
+          cmd.get_option(name)->count() > 0) {
         throw Error(std::string("synth: --stress-profile fixes the sensor; drop ") + name);
       }
     }
@@ -189,10 +192,13 @@ void run_synth(const SynthArgs& a, const CLI::App& cmd) {
     for (const LayoutFlag& f : kLayoutFlags) {
       if (cmd.get_option(f.name)->count() > 0) o.layout.*f.field = given.layout.*f.field;
     }
+    for (const std::string& name : a.without) synth::switch_off(o.render.defects, name);
     // Motion given on the command line wins over the profile's generated motion.
     if (cmd.get_option("--speed")->count() > 0) o.handheld.mean_linear_speed_mps = given.handheld.mean_linear_speed_mps;
     if (cmd.get_option("--angular-speed")->count() > 0)
       o.handheld.mean_angular_speed_dps = given.handheld.mean_angular_speed_dps;
+  } else if (!a.without.empty()) {
+    throw Error("synth: --without needs --stress-profile (without a profile, each defect's own flag sets it)");
   }
   o.render.sensor_noise = !a.no_noise;
   if (!a.depth_offset.empty()) o.render.defects.depth_offset_m = vector3(a.depth_offset, "--depth-offset");
@@ -308,6 +314,10 @@ void add_synth_command(CLI::App& app) {
                   "share of occlusion-band pixels kept at a depth between the edge's sides (0 = off)");
   cmd->add_option("--stress-profile", args->stress_profile,
                   "deep or fast: the stress set's sensor, defects and scene (the layout flags move the scene)");
+  cmd->add_option("--without", args->without,
+                  "with --stress-profile: render without these defects, comma-separated (" +
+                      odometry::synth::defect_class_list() + ")")
+      ->delimiter(',');
   cmd->callback([args, cmd] {
     odometry::io::OutputJournal journal;  // a failed rendering takes the folders it made back
     run_synth(*args, *cmd);

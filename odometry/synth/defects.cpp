@@ -57,6 +57,59 @@ void validate(const SensorDefects& d) {
   check(d.vignetting, 0.0, 1.0, "vignetting (fall-off at the corner)");
 }
 
+namespace {
+
+// One defect class and the fields that make it.
+struct DefectClass {
+  const char* name;
+  void (*off)(SensorDefects&);
+};
+constexpr DefectClass kDefectClasses[] = {
+    {"rolling-shutter", [](SensorDefects& d) { d.readout_s = 0.0; }},
+    {"blur", [](SensorDefects& d) { d.exposure_s = 0.0; }},
+    {"vignetting", [](SensorDefects& d) { d.vignetting = 0.0; }},
+    {"gain", [](SensorDefects& d) { d.gain_step = 0.0; }},
+    {"depth-bias", [](SensorDefects& d) { d.bias_radial = d.bias_lowfreq = 0.0; }},
+    {"misregistration",
+     [](SensorDefects& d) {
+       d.depth_offset_m.setZero();
+       d.depth_rotation_rad.setZero();
+     }},
+    {"depth-delay", [](SensorDefects& d) { d.depth_delay_min_s = d.depth_delay_max_s = 0.0; }},
+    {"outliers", [](SensorDefects& d) { d.speckle_outliers = d.flying_pixels = 0.0; }},
+    {"disparity-offset", [](SensorDefects& d) { d.disparity_offset_step_px = 0.0; }},
+};
+
+}  // namespace
+
+const std::vector<std::string>& defect_class_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const DefectClass& c : kDefectClasses) n.emplace_back(c.name);
+    return n;
+  }();
+  return names;
+}
+
+const std::string& defect_class_list() {
+  static const std::string list = [] {
+    std::string l;
+    for (const std::string& n : defect_class_names()) l += (l.empty() ? "" : ", ") + n;
+    return l;
+  }();
+  return list;
+}
+
+void switch_off(SensorDefects& d, const std::string& name) {
+  for (const DefectClass& c : kDefectClasses) {
+    if (name == c.name) {
+      c.off(d);
+      return;
+    }
+  }
+  throw Error("unknown sensor defect '" + name + "' (one of: " + defect_class_list() + ")");
+}
+
 double normalized_radius2(double u, double v, int width, int height, double cx, double cy) {
   const double dx = std::max(cx, width - 1 - cx), dy = std::max(cy, height - 1 - cy);
   return ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / (dx * dx + dy * dy);

@@ -10,6 +10,7 @@
 // Colour: rolling shutter, motion blur (poses sampled within the exposure), auto-exposure
 // gain drifting from frame to frame, vignetting.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -81,6 +82,17 @@ struct SensorDefects {
 
 // Throws bivo::Error naming the field when a defect parameter is out of range.
 void validate(const SensorDefects& defects);
+
+// The defect classes a rendering can be made without (`bivo synth --stress-profile P
+// --without NAME,...`), each the fields of one defect above: rolling-shutter, blur,
+// vignetting, gain, depth-bias, misregistration, depth-delay, outliers, disparity-offset.
+const std::vector<std::string>& defect_class_names();
+// The same names, comma-separated, for messages.
+const std::string& defect_class_list();
+
+// Switches defect class `name` off in `defects` (throws bivo::Error naming the classes on an
+// unknown name); every other field is kept.
+void switch_off(SensorDefects& defects, const std::string& name);
 
 // The disparity bias delta_d(u, v) [px] of a width x height image (row-major), for the
 // sensor's f_ir * b [px m]: zero everywhere when no bias is switched on. Static: depends on
