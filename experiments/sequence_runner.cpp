@@ -56,6 +56,7 @@ RunOutcome run_sequence(const RunRequest& request, const std::function<void(cons
   out.failures = track.invalid_pairs;
   out.load_seconds = track.load_seconds;
   out.readout_time = track.readout_time;
+  out.vignetting = track.vignetting;
 
   const auto median_and_mean = [&](double odometry::PairResult::*field, double& median, double& mean) {
     std::vector<double> ms;

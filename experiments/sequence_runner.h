@@ -50,6 +50,7 @@ struct RunOutcome {
   double median_cpu_ms = 0, mean_cpu_ms = 0;  // CPU time per pair (all threads), loading excluded
   double load_seconds = 0;                    // PNG decoding, all frames
   double readout_time = 0;                    // rolling-shutter readout used [s] (given or stated)
+  double vignetting = 0;                      // colour fall-off divided out (given or stated)
 };
 
 // `tracker` with a frame window given apart from it (RunRequest, a study's first_frame and

@@ -56,7 +56,7 @@ TrackerOption integer(std::string key, std::string flag, double lo, double hi, s
   return o;
 }
 // The option also takes -1: "the method's own" (odometry_methods.h resolves it) or, for the
-// readout time, "what the sequence states" (odometry::with_stated_readout).
+// readout time and the vignetting, "what the sequence states" (odometry::with_stated_sensor).
 TrackerOption or_minus_one(TrackerOption o) {
   o.auto_value = -1.0;
   return o;
@@ -178,6 +178,10 @@ std::vector<TrackerOption> build_table() {
                           "images moved to their timestamps (the middle row's) with the pair's first estimate "
                           "(0: global shutter; -1: the readout the sequence states in scene.json, else 0)",
                           BIVO_FIELD(readout_time))),
+      or_minus_one(number("vignetting", "--vignetting", 0.0, 0.999,
+                          "colour fall-off k of 1 - k rho^2 divided out of every frame; joint then fits no "
+                          "fall-off of its own (0: none; -1: the fall-off the sequence states in scene.json, else 0)",
+                          BIVO_FIELD(vignetting))),
       or_minus_one(
           integer("correction_rounds", "--correction-rounds", 1, 10,
                   "with frames corrected (--readout-time, --retime-depth): times the pair is estimated "

@@ -158,9 +158,9 @@ int method_depth_noise_exponent(Method method, int requested) {
   return uses_joint_weights(method) ? 3 : 0;
 }
 
-int method_affine_brightness(Method method, int requested) {
+int method_affine_brightness(Method method, int requested, bool falloff_divided_out) {
   if (requested >= 0) return requested;
-  if (method == Method::kJoint) return 2;
+  if (method == Method::kJoint) return falloff_divided_out ? 1 : 2;
   return method == Method::kRobust ? 1 : 0;
 }
 

@@ -160,8 +160,10 @@ int method_depth_noise_exponent(Method method, int requested);
 // 1 (their t-scale of r_I otherwise grows with every exposure change, and with it lambda =
 // S_II / S_DD: depth is trusted the more the brighter the step; joint's also fits the camera's
 // fall-off, which robust's CPU budget leaves out; chosen by leave-one-sequence-out,
-// docs/results/defaults.md); the others: 0 (r_I as the paper defines it).
-int method_affine_brightness(Method method, int requested);
+// docs/results/defaults.md), joint 1 where the frames' fall-off is divided out
+// (TrackerOptions::vignetting: a per-pair fall-off fit on a textureless plane reads the
+// exposure gain as rotation); the others: 0 (r_I as the paper defines it).
+int method_affine_brightness(Method method, int requested, bool falloff_divided_out = false);
 // The photometric start (PolicyParameters::photometric_start_levels) a method uses when asked
 // for -1 ("auto", the default); any other request is returned unchanged. joint: 3, robust
 // (and the methods that ignore it): 1; each chosen by leave-one-sequence-out

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "odometry/io/frame_stream.h"
+#include "odometry/io/vignetting.h"
 #include "odometry/kernels/kernels.h"
 #include "solvers/error.h"
 
@@ -63,15 +64,17 @@ TrackResult track_sequence(const std::string& directory, const TrackerOptions& o
   return track_sequence(io::open_tum_sequence(directory, sequence_options(options)), options, on_pair);
 }
 
-TrackerOptions with_stated_readout(TrackerOptions options, std::optional<double> stated) {
-  if (options.readout_time < 0.0) options.readout_time = stated.value_or(0.0);
+TrackerOptions with_stated_sensor(TrackerOptions options, std::optional<double> readout,
+                                  std::optional<double> vignetting) {
+  if (options.readout_time < 0.0) options.readout_time = readout.value_or(0.0);
+  if (options.vignetting < 0.0) options.vignetting = vignetting.value_or(0.0);
   return options;
 }
 
 TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& given,
                            const std::function<void(const PairResult&)>& on_pair) {
   validate(given);
-  const TrackerOptions options = with_stated_readout(given, seq.readout_time);
+  const TrackerOptions options = with_stated_sensor(given, seq.readout_time, seq.vignetting);
   const FrameWindow window = frame_window(static_cast<int>(seq.frames.size()), options, seq.directory);
   const int first_index = window.begin, end = window.end;
 
@@ -79,11 +82,13 @@ TrackResult track_sequence(const io::TumSequence& seq, const TrackerOptions& giv
   out.sequence = seq.name;
   out.intrinsics = seq.intrinsics;
   out.readout_time = options.readout_time;
+  out.vignetting = options.vignetting;
 
   // Loading runs ahead on threads of its own (options.prefetch_frames, load_threads). A pair's
   // CPU time is the process's (this thread's and the per-pixel workers') less the loaders'.
   const int threads = options.problem.threads;
-  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, load_threads_for(options));
+  io::FrameStream frames(seq.frames, first_index, end, seq.intrinsics, seq.distortion, load_threads_for(options),
+                         options.vignetting);
   const auto cpu_seconds = [&frames] { return process_cpu_seconds() - frames.loader_cpu_seconds(); };
   io::RgbdImage first = frames.next();
   out.load_seconds += frames.last_wait_seconds();
@@ -191,8 +196,11 @@ FramePair load_frame_pair(const std::string& directory, int reference_index, int
   p.reference_frame = seq.frames[reference_index];
   p.current_frame = seq.frames[current_index];
   p.readout_time = seq.readout_time;
+  p.vignetting = with_stated_sensor(options, seq.readout_time, seq.vignetting).vignetting;
   io::RgbdImage a = io::load_rgbd_image(p.reference_frame);
   io::RgbdImage b = io::load_rgbd_image(p.current_frame, a.width, a.height);
+  io::divide_out_vignetting(a, p.vignetting, seq.intrinsics);
+  io::divide_out_vignetting(b, p.vignetting, seq.intrinsics);
   const io::Undistortion undistortion(seq.intrinsics, seq.distortion, a.width, a.height);
   undistortion.apply(a);
   undistortion.apply(b);

@@ -72,7 +72,7 @@ RgbdProblemOptions method_problem_options(Method method, const TrackerOptions& o
   o.depth_first = method == Method::kDepth;
   o.joint_weights = uses_joint_weights(method);
   o.depth_noise_exponent = method_depth_noise_exponent(method, o.depth_noise_exponent);
-  o.affine_brightness = method_affine_brightness(method, o.affine_brightness);
+  o.affine_brightness = method_affine_brightness(method, o.affine_brightness, options.vignetting > 0.0);
   o.min_valid_terms = std::max(o.min_valid_terms, options.min_valid_pixels);
   return o;
 }
@@ -480,7 +480,9 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
                 std::to_string(reference.pyramid.levels.size() - 1));
   }
   const Method method = parse_method(options.method);
-  RgbdProblemOptions po = method_problem_options(method, options);
+  TrackerOptions loaded = options;
+  loaded.vignetting = vignetting;  // the frames' fall-off is divided out as they were loaded
+  RgbdProblemOptions po = method_problem_options(method, loaded);
   po.jacobian = method_jacobian(method, options.problem.jacobian, level == options.finest_level);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }

@@ -103,6 +103,12 @@ struct TrackerOptions {
   // rendering's scene.json, io/sensor_description.h), else 0; a pair estimated alone (no
   // sequence) takes -1 as 0. A property of the sensor, not tuned.
   double readout_time = -1.0;
+  // Vignetting: the colour images' fall-off 1 - k rho^2 (io/vignetting.h) divided out of
+  // every frame before tracking, and joint's brightness model left without its own fall-off
+  // term (method_affine_brightness()). -1 (the default): the fall-off the sequence states (a
+  // bivo synth rendering's scene.json), else 0 (none divided out: real TUM sequences state
+  // none; joint then fits the fall-off per pair). A property of the sensor, not tuned.
+  double vignetting = -1.0;
   // With frames corrected (readout_time > 0 or retime_depth 1 on unsynchronized depth): how
   // many times the pair is estimated again on frames corrected with its latest estimate's
   // velocity (1: once, from the estimate on the frames as given). The correction moves each
@@ -216,6 +222,7 @@ struct TrackResult {
   std::string sequence;
   io::Intrinsics intrinsics;
   double readout_time = 0.0;  // the rolling-shutter readout used (TrackerOptions::readout_time)
+  double vignetting = 0.0;    // the fall-off divided out (TrackerOptions::vignetting)
   io::Trajectory trajectory;  // one pose per frame, T_wc
   std::vector<PairResult> pairs;
   solvers::PhaseProfile profile;  // summed over pairs (plus the first frame's pyramid)
@@ -232,8 +239,9 @@ FrameWindow frame_window(int total, const TrackerOptions& options, const std::st
 
 // How the tracker opens a sequence: association window, intrinsics and distortion overrides.
 io::SequenceOptions sequence_options(const TrackerOptions& options);
-// The options with readout_time -1 replaced by the readout the sequence states (else 0).
-TrackerOptions with_stated_readout(TrackerOptions options, std::optional<double> stated);
+// The options with readout_time and vignetting -1 replaced by what the sequence states (else 0).
+TrackerOptions with_stated_sensor(TrackerOptions options, std::optional<double> readout,
+                                  std::optional<double> vignetting);
 
 // Streams frames first_frame .. first_frame + max_frames - 1 of the sequence in `directory`,
 // calling on_pair after each pair. Throws bivo::Error when the window holds fewer than 2
@@ -293,6 +301,7 @@ struct FramePair {
   PreparedFrame reference, current;
   std::optional<Eigen::Isometry3d> groundtruth_T21;
   std::optional<double> readout_time;  // as the sequence states it (io::TumSequence)
+  double vignetting = 0.0;             // the fall-off divided out of both frames (TrackerOptions::vignetting)
 
   // The odometry problem at one level with the options' problem settings (depth_first is
   // set for method "depth"), on the frames as loaded (TrackerOptions::retime_depth is not

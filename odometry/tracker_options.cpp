@@ -57,6 +57,10 @@ void validate(const TrackerOptions& options) {
   if (!(options.readout_time == -1.0 || (options.readout_time >= 0.0 && options.readout_time <= 1.0))) {
     throw Error("readout time must be -1 (the sequence's) or in [0, 1] s, got " + std::to_string(options.readout_time));
   }
+  if (!(options.vignetting == -1.0 || (options.vignetting >= 0.0 && options.vignetting < 1.0))) {
+    throw Error("vignetting must be -1 (the sequence's) or a fall-off in [0, 1), got " +
+                std::to_string(options.vignetting));
+  }
   if (!(options.problem.min_valid_fraction >= 0.0 && options.problem.min_valid_fraction <= 1.0)) {
     throw Error("min valid fraction must be in [0, 1], got " + std::to_string(options.problem.min_valid_fraction));
   }

@@ -195,8 +195,9 @@ void bind_odometry(py::module_& m) {
       .def(
           "estimate",
           [](const PyFramePair& p, const py::object& initial, const py::kwargs& kwargs) {
-            const TrackerOptions o =
-                with_stated_readout(kwargs.empty() ? p.options : options_of(kwargs), p.pair.readout_time);
+            TrackerOptions o =
+                with_stated_sensor(kwargs.empty() ? p.options : options_of(kwargs), p.pair.readout_time, std::nullopt);
+            o.vignetting = p.pair.vignetting;  // as the pair's frames were loaded
             const Eigen::Isometry3d T0 = initial.is_none()
                                              ? Eigen::Isometry3d::Identity()
                                              : solvers::se3::from_ambient(vector_arg(initial, "initial", 7));
@@ -218,6 +219,7 @@ void bind_odometry(py::module_& m) {
         d["name"] = seq.name;
         d["directory"] = seq.directory;
         d["readout_time"] = seq.readout_time ? py::object(py::float_(*seq.readout_time)) : py::none();
+        d["vignetting"] = seq.vignetting ? py::object(py::float_(*seq.vignetting)) : py::none();
         d["intrinsics"] = py::dict(py::arg("fx") = seq.intrinsics.fx, py::arg("fy") = seq.intrinsics.fy,
                                    py::arg("cx") = seq.intrinsics.cx, py::arg("cy") = seq.intrinsics.cy);
         const io::Distortion& dist = seq.distortion;

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry/io/tum_dataset.h"
+#include "odometry/io/vignetting.h"
 #include "odometry/synth/defects.h"
 #include "odometry/synth/exposure.h"
 #include "odometry/synth/motion.h"
@@ -25,6 +26,7 @@
 #include "solvers/error.h"
 
 namespace synth = bivo::odometry::synth;
+namespace io = bivo::odometry::io;
 
 namespace {
 
@@ -243,6 +245,34 @@ TEST(SynthDefects, VignettingFollowsItsRadialProfile) {
   }
   EXPECT_LE(worst, 0.51);
   EXPECT_NEAR(f.rgb[0], 0.6 * 255 * 0.7, 0.51);  // (0, 0) is the farthest corner from (320.1, 247.6)
+}
+
+// The tracker's flat-field correction (io/vignetting.h) of the fall-off the rendering states:
+// the plane's intensity is flat again, to its 8-bit rounding amplified by 1 / (1 - k rho^2).
+TEST(SynthDefects, DividingOutTheStatedFallOffFlattensThePlane) {
+  synth::RenderSettings r = clean();
+  r.defects.vignetting = 0.3;
+  const synth::RenderedFrame f = synth::render_frame(plane_scene(2.0, false), Eigen::Isometry3d::Identity(), r, 0);
+  io::RgbdImage image;
+  image.width = W;
+  image.height = H;
+  for (int i = 0; i < W * H; ++i) image.intensity.push_back(f.rgb[3 * i]);  // a grey plane: R = G = B
+  const io::RgbdImage taken = image;
+  const io::Intrinsics K{r.camera.fx, r.camera.fy, r.camera.cx, r.camera.cy};
+  io::divide_out_vignetting(image, 0.0, K);
+  EXPECT_EQ(image.intensity, taken.intensity);
+  io::divide_out_vignetting(image, 0.3, K);
+  double worst = 0, worst_taken = 0;
+  for (int i = 0; i < W * H; ++i) {
+    worst = std::max(worst, std::fabs(image.intensity[i] - 0.6 * 255));
+    worst_taken = std::max(worst_taken, std::fabs(taken.intensity[i] - 0.6 * 255));
+  }
+  EXPECT_LE(worst, 0.51 / 0.7);
+  EXPECT_GT(worst_taken, 0.29 * 0.6 * 255);  // the corner's fall-off, 0.3 of the centre's light
+  EXPECT_THROW(io::divide_out_vignetting(image, 1.0, K), bivo::Error);
+  synth::SensorDefects beyond;
+  beyond.vignetting = 0.95;  // a fall-off the tracker could not divide out is not rendered
+  EXPECT_THROW(synth::validate(beyond), bivo::Error);
 }
 
 TEST(SynthDefects, AutoExposureGainScalesTheImageAndFollowsItsWalk) {

@@ -38,6 +38,7 @@ TrackerOptions unusual_options() {
   o.retry_from_rest = 0;
   o.retime_depth = 1;
   o.readout_time = 0.0125 + 1e-9;
+  o.vignetting = 0.1 + 0.2;
   o.correction_rounds = 3;
   o.evaluate_unused_objective = true;
   o.min_valid_pixels = 123;
@@ -107,6 +108,7 @@ TEST(TrackerConfig, EveryFieldRoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(back.retry_from_rest, o.retry_from_rest);
   EXPECT_EQ(back.retime_depth, o.retime_depth);
   EXPECT_EQ(back.readout_time, o.readout_time);
+  EXPECT_EQ(back.vignetting, o.vignetting);
   EXPECT_EQ(back.correction_rounds, o.correction_rounds);
   EXPECT_EQ(back.evaluate_unused_objective, o.evaluate_unused_objective);
   EXPECT_EQ(back.min_valid_pixels, o.min_valid_pixels);

@@ -76,6 +76,10 @@ void add_run_command(CLI::App& app) {
       std::cout << "note: colour images unrolled with the " << format_option_number(run.readout_time)
                 << " s rolling-shutter readout the sequence states (scene.json); --readout-time 0: global shutter\n";
     }
+    if (req.tracker.vignetting < 0.0 && run.vignetting > 0.0) {
+      std::cout << "note: colour fall-off 1 - " << format_option_number(run.vignetting)
+                << " rho^2 the sequence states (scene.json) divided out; --vignetting 0: frames as taken\n";
+    }
     std::cout << run_summary_line(run) << std::endl;
   });
 }

@@ -15,11 +15,20 @@
 namespace bivo::odometry::io {
 
 FrameStream::FrameStream(const std::vector<AssociatedFrame>& frames, int begin, int end, const Intrinsics& K,
-                         const Distortion& distortion, int loaders)
-    : frames_(frames), begin_(begin), end_(end), K_(K), distortion_(distortion), loaders_(loaders) {
+                         const Distortion& distortion, int loaders, double vignetting)
+    : frames_(frames),
+      begin_(begin),
+      end_(end),
+      K_(K),
+      distortion_(distortion),
+      vignetting_(vignetting),
+      loaders_(loaders) {
   if (begin < 0 || end > static_cast<int>(frames.size()) || begin >= end) {
     throw Error("frame stream: frames [" + std::to_string(begin) + ", " + std::to_string(end) + ") of a sequence of " +
                 std::to_string(frames.size()));
+  }
+  if (!(vignetting >= 0.0 && vignetting < 1.0)) {
+    throw Error("frame stream: vignetting fall-off " + std::to_string(vignetting) + ", expected [0, 1)");
   }
   if (loaders < 0 || loaders > kMaxLoaders) {
     throw Error("frame stream: " + std::to_string(loaders) + " loader threads, expected 0.." +
@@ -56,6 +65,7 @@ FrameStream::Loaded FrameStream::load(int index, int width, int height, std::opt
   Loaded out;
   try {
     RgbdImage image = load_rgbd_image(frames_[static_cast<std::size_t>(index)], width, height);
+    divide_out_vignetting(image, vignetting_, K_);
     if (!map) map.emplace(K_, distortion_, image.width, image.height);
     map->apply(image);
     out.image = std::move(image);

@@ -27,6 +27,7 @@
 #include "odometry/io/camera_intrinsics.h"
 #include "odometry/io/lens_distortion.h"
 #include "odometry/io/tum_dataset.h"
+#include "odometry/io/vignetting.h"
 
 namespace bivo::odometry::io {
 
@@ -34,10 +35,11 @@ class FrameStream {
  public:
   static constexpr int kMaxLoaders = 16;
   // Frames [begin, end) of `frames`, which must outlive the stream. Every frame after the
-  // first must have the first one's size (load_rgbd_image's check); all are undistorted with
-  // one map of (K, distortion) at that size.
+  // first must have the first one's size (load_rgbd_image's check); all have the fall-off
+  // 1 - vignetting rho^2 divided out (vignetting.h: 0, none) and are undistorted with one map
+  // of (K, distortion) at that size.
   FrameStream(const std::vector<AssociatedFrame>& frames, int begin, int end, const Intrinsics& K,
-              const Distortion& distortion, int loaders);
+              const Distortion& distortion, int loaders, double vignetting = 0.0);
   // Stops the loader threads; frames they are decoding are finished first.
   ~FrameStream();
   FrameStream(const FrameStream&) = delete;
@@ -64,7 +66,7 @@ class FrameStream {
     std::optional<RgbdImage> image;
     std::exception_ptr error;
   };
-  // decode + check against the first frame's size (0: none) + undistort with `map`, built at
+  // decode + check against the first frame's size (0: none) + fall-off divided out + undistort with `map`, built at
   // the frame's size when empty (a map keeps buffers for its thread: one per loader).
   Loaded load(int index, int width, int height, std::optional<Undistortion>& map) const;
   void run(int loader);  // one loader thread
@@ -74,6 +76,7 @@ class FrameStream {
   const int begin_, end_;
   const Intrinsics K_;
   const Distortion distortion_;
+  const double vignetting_;
   const int loaders_;
   std::optional<Undistortion> undistortion_;  // without loaders: built at the first frame's size
   double last_wait_seconds_ = 0.0;

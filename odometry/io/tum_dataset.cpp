@@ -134,7 +134,8 @@ TumSequence open_tum_sequence(const std::string& directory, const SequenceOption
     seq.list_files.push_back(gt);
   }
   seq.readout_time = stated_readout_time(directory);
-  if (seq.readout_time) seq.list_files.push_back(sensor_description_path(directory));
+  seq.vignetting = stated_vignetting(directory);
+  if (seq.readout_time || seq.vignetting) seq.list_files.push_back(sensor_description_path(directory));
   return seq;
 }
 

@@ -61,6 +61,9 @@ struct TumSequence {
   // The colour camera's rolling-shutter readout [s] as the sequence states it (scene.json of
   // a bivo synth rendering, sensor_description.h); none for real TUM sequences.
   std::optional<double> readout_time;
+  // The colour camera's fall-off 1 - k rho^2 as the sequence states it (vignetting.h); none
+  // for real TUM sequences.
+  std::optional<double> vignetting;
   std::vector<std::string> list_files;  // the text files read (lists, groundtruth.txt, scene.json)
 };
 

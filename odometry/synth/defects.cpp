@@ -54,7 +54,7 @@ void validate(const SensorDefects& d) {
   check(d.blur_samples, 1, 64, "motion-blur samples");
   check(d.gain_step, 0.0, 1.0, "auto-exposure gain step (sigma of the log gain)");
   check(d.gain_memory, 0.0, 1.0, "auto-exposure gain memory");
-  check(d.vignetting, 0.0, 1.0, "vignetting (fall-off at the corner)");
+  check(d.vignetting, 0.0, 0.9, "vignetting (fall-off at the corner; the tracker divides it out)");
 }
 
 namespace {
@@ -108,11 +108,6 @@ void switch_off(SensorDefects& d, const std::string& name) {
     }
   }
   throw Error("unknown sensor defect '" + name + "' (one of: " + defect_class_list() + ")");
-}
-
-double normalized_radius2(double u, double v, int width, int height, double cx, double cy) {
-  const double dx = std::max(cx, width - 1 - cx), dy = std::max(cy, height - 1 - cy);
-  return ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / (dx * dx + dy * dy);
 }
 
 std::vector<float> disparity_bias_field(const SensorDefects& d, std::uint64_t seed, int width, int height, double cx,

@@ -15,6 +15,8 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry/io/vignetting.h"
+
 namespace bivo::odometry::synth {
 
 struct SensorDefects {
@@ -105,8 +107,8 @@ inline double biased_depth(double z, double delta_d, double ir_focal_baseline) {
   return z / (1.0 - z * delta_d / ir_focal_baseline);
 }
 
-// rho^2 of pixel (u, v): squared distance to (cx, cy) over that of the farthest corner.
-double normalized_radius2(double u, double v, int width, int height, double cx, double cy);
+// rho^2 of pixel (u, v), as the tracker divides a stated fall-off out (io/vignetting.h).
+using io::normalized_radius2;
 
 // Exposure gain of frame k (1 when gain_step == 0).
 double auto_exposure_gain(const SensorDefects& defects, std::uint64_t seed, std::uint64_t frame);
