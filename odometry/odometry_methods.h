@@ -62,9 +62,9 @@ struct PolicyParameters {
   std::optional<double> eps;  // method bounded: fixed per-unit-weight bound overriding the rule
   // scaled, noise-bounded: chosen by leave-one-sequence-out over every sequence at hand
   // (docs/results/defaults.md, "Held out").
-  double kappa = 0.01;     // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
-  double eps_ratio = 0.6;  // method noise-bounded: eps_bar / depth-residual level at x_I
-  double guard = 168.0;    // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
+  double kappa = 0.05;     // method scaled: lambda = kappa sigma_I^2 / sigma_D^2
+  double eps_ratio = 1.0;  // method noise-bounded: eps_bar / depth-residual level at x_I
+  double guard = 42.0;     // method noise-bounded: rise of F_I / sigma_I^2 that relaxes the bound
   // method noise-bounded: a level whose bound the guard relaxed continues its photometric
   // solution x_I to this relative merit change (its coarser levels may have pulled its start
   // towards the depth objective); 1.055x -> 1.03x worst ratio to single (docs/odometry.md).
