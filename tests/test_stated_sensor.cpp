@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -112,10 +113,11 @@ TEST_F(StatedReadout, NoneWithoutADescription) {
 TEST_F(StatedReadout, MalformedStatementIsAnErrorNamingFileAndKey) {
   const fs::path copy = dir_ / "malformed";
   fs::create_directories(copy);
-  const auto expect_error = [&](const std::string& text, const std::string& needle) {
+  using Reader = std::optional<double> (*)(const std::string&);
+  const auto expect_error = [&](Reader read, const std::string& text, const std::string& needle) {
     write(copy / "scene.json", text);
     try {
-      io::stated_readout_time(copy.string());
+      read(copy.string());
       ADD_FAILURE() << "accepted " << text;
     } catch (const Error& e) {
       const std::string what = e.what();
@@ -123,24 +125,14 @@ TEST_F(StatedReadout, MalformedStatementIsAnErrorNamingFileAndKey) {
       EXPECT_NE(what.find(needle), std::string::npos) << what;
     }
   };
-  expect_error(R"({"sensor_defects": {"readout_s": 2}})", "readout_s: 2");
-  expect_error(R"({"sensor_defects": {"readout_s": -0.01}})", "readout_s: -0.01");
-  expect_error(R"({"sensor_defects": {"readout_s": "fast"}})", "readout_s: \"fast\"");
-  expect_error(R"({"sensor_defects": )", "scene.json");
-  const auto expect_fall_off_error = [&](const std::string& text, const std::string& needle) {
-    write(copy / "scene.json", text);
-    try {
-      io::stated_vignetting(copy.string());
-      ADD_FAILURE() << "accepted " << text;
-    } catch (const Error& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("scene.json"), std::string::npos) << what;
-      EXPECT_NE(what.find(needle), std::string::npos) << what;
-    }
-  };
-  expect_fall_off_error(R"({"sensor_defects": {"vignetting": 1}})", "vignetting: 1");
-  expect_fall_off_error(R"({"sensor_defects": {"vignetting": -0.1}})", "vignetting: -0.1");
-  expect_fall_off_error(R"({"sensor_defects": {"vignetting": "dark"}})", "vignetting: \"dark\"");
+  const Reader readout = io::stated_readout_time, fall_off = io::stated_vignetting;
+  expect_error(readout, R"({"sensor_defects": {"readout_s": 2}})", "readout_s: 2");
+  expect_error(readout, R"({"sensor_defects": {"readout_s": -0.01}})", "readout_s: -0.01");
+  expect_error(readout, R"({"sensor_defects": {"readout_s": "fast"}})", "readout_s: \"fast\"");
+  expect_error(readout, R"({"sensor_defects": )", "scene.json");
+  expect_error(fall_off, R"({"sensor_defects": {"vignetting": 1}})", "vignetting: 1");
+  expect_error(fall_off, R"({"sensor_defects": {"vignetting": -0.1}})", "vignetting: -0.1");
+  expect_error(fall_off, R"({"sensor_defects": {"vignetting": "dark"}})", "vignetting: \"dark\"");
 }
 
 // The fall-off is divided out by default: as if given, not as the frames were taken; a pair
