@@ -1,4 +1,6 @@
 """The odometry bindings on a synthetic sequence, against bivo_oracle (the C++ tracker)."""
+import shutil
+
 import numpy as np
 import pytest
 
@@ -95,9 +97,21 @@ def test_open_sequence_lists_frames_and_ground_truth(synthetic_sequence):
     assert seq["intrinsics"]["fx"] > 0
     assert seq["distortion"] == {"k1": 0.0, "k2": 0.0, "p1": 0.0, "p2": 0.0, "k3": 0.0}  # a rendering
     assert seq["readout_time"] is None  # rendered without sensor defects: no readout stated
+    assert seq["vignetting"] is None  # nor a fall-off
     track = bivo.track(synthetic_sequence, max_frames=2)
     assert_same(track.timestamps, seq["timestamps"][:2], 0.0)
     assert_same(track.poses[0], poses[0], 1e-9)  # the first pose starts at the ground truth
+
+
+def test_open_sequence_reads_a_stated_fall_off(synthetic_sequence, tmp_path):
+    copy = tmp_path / "stated"
+    shutil.copytree(synthetic_sequence, copy)
+    (copy / "scene.json").write_text('{"sensor_defects": {"vignetting": 0.2, "readout_s": 0.01}}')
+    seq = bivo.odometry.open_sequence(str(copy))
+    assert seq["vignetting"] == 0.2 and seq["readout_time"] == 0.01
+    (copy / "scene.json").write_text('{"sensor_defects": {"vignetting": 1.5}}')
+    with pytest.raises(bivo.Error, match="vignetting: 1.5"):
+        bivo.odometry.open_sequence(str(copy))
 
 
 def test_tracker_options_are_the_config_file_keys():
