@@ -109,7 +109,7 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
   // Start both sweeps from the single-objective coarse-to-fine estimate down to this level,
   // the same basin the methods start in.
   const odometry::PairResult start =
-      odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), base);
+      odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), pair.as_loaded(base));
   const Eigen::VectorXd x0 = solvers::se3::to_ambient(start.T_21);
   auto problem = pair.problem(o.level, base);  // F_1 = F_I, F_2 = F_D
 
@@ -143,7 +143,7 @@ ParetoStudy run_pareto_study(const ParetoStudyOptions& o) {
     odometry::TrackerOptions t = base;
     t.method = m;
     const odometry::PairResult r =
-        odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), t);
+        odometry::estimate_motion(pair.reference, pair.current, Eigen::Isometry3d::Identity(), pair.as_loaded(t));
     StudyPoint p = evaluate(*problem, r.T_21, pair.groundtruth_T21);
     p.method = m;
     p.parameter = m == "bounded" ? r.epsilon_per_weight : r.lambda;

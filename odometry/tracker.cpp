@@ -480,11 +480,14 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
                 std::to_string(reference.pyramid.levels.size() - 1));
   }
   const Method method = parse_method(options.method);
-  TrackerOptions loaded = options;
-  loaded.vignetting = vignetting;  // the frames' fall-off is divided out as they were loaded
-  RgbdProblemOptions po = method_problem_options(method, loaded);
+  RgbdProblemOptions po = method_problem_options(method, as_loaded(options));
   po.jacobian = method_jacobian(method, options.problem.jacobian, level == options.finest_level);
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
+}
+
+TrackerOptions FramePair::as_loaded(TrackerOptions options) const {
+  options.vignetting = vignetting;
+  return options;
 }
 
 double FramePair::lambda(const TrackerOptions& options) const {

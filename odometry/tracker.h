@@ -307,6 +307,9 @@ struct FramePair {
   // set for method "depth"), on the frames as loaded (TrackerOptions::retime_depth is not
   // applied: it needs the pair's estimate). The problem refers into this FramePair.
   std::unique_ptr<RgbdOdometryProblem> problem(int level, const TrackerOptions& options) const;
+  // The options with the vignetting the frames were loaded with (their fall-off is already
+  // divided out): what estimate_motion() on this pair's frames must be given.
+  TrackerOptions as_loaded(TrackerOptions options) const;
   // lambda of a weighted-sum method / eps_bar of bounded, as the tracker would choose them.
   double lambda(const TrackerOptions& options) const;
   double epsilon_per_weight(const TrackerOptions& options) const;

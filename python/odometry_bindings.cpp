@@ -195,9 +195,8 @@ void bind_odometry(py::module_& m) {
       .def(
           "estimate",
           [](const PyFramePair& p, const py::object& initial, const py::kwargs& kwargs) {
-            TrackerOptions o =
-                with_stated_sensor(kwargs.empty() ? p.options : options_of(kwargs), p.pair.readout_time, std::nullopt);
-            o.vignetting = p.pair.vignetting;  // as the pair's frames were loaded
+            const TrackerOptions o = p.pair.as_loaded(
+                with_stated_sensor(kwargs.empty() ? p.options : options_of(kwargs), p.pair.readout_time, std::nullopt));
             const Eigen::Isometry3d T0 = initial.is_none()
                                              ? Eigen::Isometry3d::Identity()
                                              : solvers::se3::from_ambient(vector_arg(initial, "initial", 7));

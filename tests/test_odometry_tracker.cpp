@@ -270,8 +270,8 @@ TEST(Tracker, NoiseBoundedRelaxesTheBoundOnBiasedDepth) {
   RgbdImage b = load_rgbd_image(seq.frames[3], a.width, a.height);
   for (float& z : b.depth) z *= 1.03f;
   TrackerOptions o;
-  // The guard's mechanism at a bound that binds: (eps_ratio, guard) = (0.6, 168), the defaults
-  // before the fast renderings' fall-off was divided out (docs/results/defaults.md).
+  // The guard's mechanism needs a bound that binds: eps_ratio 0.6, guard 168 (the default
+  // ratio 1 holds F_D at its level at x_I, where the bound seldom binds).
   o.policy.eps_ratio = 0.6;
   o.policy.guard = 168.0;
   const PreparedFrame ref = prepare_frame(a, seq.intrinsics, o.levels);

@@ -15,7 +15,6 @@
 
 #include "odometry/io/sensor_description.h"
 #include "odometry/io/tum_dataset.h"
-#include "odometry/io/vignetting.h"
 #include "odometry/odometry_methods.h"
 #include "odometry/synth/sequence.h"
 #include "odometry/synth/stress_set.h"
@@ -159,11 +158,26 @@ TEST_F(StatedReadout, FallOffReadAsRenderedAndDividedOutByDefault) {
   EXPECT_EQ(as_taken.vignetting, 0.0);
   const ImageF& d = divided.reference.pyramid.levels[0].intensity;
   const ImageF& t = as_taken.reference.pyramid.levels[0].intensity;
-  const double rho2_centre = io::normalized_radius2(320, 248, 640, 480, seq.intrinsics.cx, seq.intrinsics.cy);
+  // rho^2 by hand: (0, 0) is the corner farthest from the principal point (cx, cy).
+  const double cx = seq.intrinsics.cx, cy = seq.intrinsics.cy;
+  const double rho2_centre = ((320 - cx) * (320 - cx) + (248 - cy) * (248 - cy)) / (cx * cx + cy * cy);
   EXPECT_NEAR(d.at(0, 0) / t.at(0, 0), 1.0 / (1.0 - fall_off_), 1e-5);  // (0, 0): the farthest corner
   EXPECT_NEAR(d.at(320, 248) / t.at(320, 248), 1.0 / (1.0 - fall_off_ * rho2_centre), 1e-5);
   EXPECT_EQ(divided.problem(1, options(-1.0))->options().affine_brightness, 1);
   EXPECT_EQ(as_taken.problem(1, options(-1.0))->options().affine_brightness, 2);
+
+  // Estimated alone (as bivo pareto marks the methods), the pair is the tracker's pair 2 -> 3
+  // only with the options as loaded: joint's model follows the frames' divided fall-off.
+  TrackerOptions window = options(0.0);
+  window.first_frame = 2;
+  window.max_frames = 2;
+  const TrackResult tracked = track_sequence(sequence_, window);
+  ASSERT_EQ(tracked.pairs.size(), 1u);
+  const auto alone = [&](const TrackerOptions& o) {
+    return estimate_motion(divided.reference, divided.current, Eigen::Isometry3d::Identity(), o).T_21.matrix();
+  };
+  EXPECT_EQ(alone(divided.as_loaded(options(0.0))), tracked.pairs[0].T_21.matrix());
+  EXPECT_NE(alone(options(0.0)), tracked.pairs[0].T_21.matrix());  // -1 read as no fall-off: model 2
 }
 
 TEST(StatedSensorOption, MinusOneIsTheSequencesOtherNegativesAreRefused) {
