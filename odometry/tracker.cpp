@@ -485,11 +485,6 @@ std::unique_ptr<RgbdOdometryProblem> FramePair::problem(int level, const Tracker
   return std::make_unique<RgbdOdometryProblem>(reference.pyramid.levels[level], current.pyramid.levels[level], po);
 }
 
-TrackerOptions FramePair::as_loaded(TrackerOptions options) const {
-  options.vignetting = vignetting;
-  return options;
-}
-
 double FramePair::lambda(const TrackerOptions& options) const {
   const Method method = parse_method(options.method);
   return method_lambda(method, policy_statistics(method, reference, options.problem.threads), options.policy);

@@ -309,7 +309,10 @@ struct FramePair {
   std::unique_ptr<RgbdOdometryProblem> problem(int level, const TrackerOptions& options) const;
   // The options with the vignetting the frames were loaded with (their fall-off is already
   // divided out): what estimate_motion() on this pair's frames must be given.
-  TrackerOptions as_loaded(TrackerOptions options) const;
+  TrackerOptions as_loaded(TrackerOptions options) const {
+    options.vignetting = vignetting;
+    return options;
+  }
   // lambda of a weighted-sum method / eps_bar of bounded, as the tracker would choose them.
   double lambda(const TrackerOptions& options) const;
   double epsilon_per_weight(const TrackerOptions& options) const;
